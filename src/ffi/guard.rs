@@ -1,0 +1,126 @@
+//! The boundary: every entry point's body runs in [`guard`], which turns errors into a
+//! status plus a thread-local message and catches panics.
+
+use std::cell::RefCell;
+use std::ffi::{c_char, CString};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use super::types::GlcolStatus;
+use crate::error::{Error, ErrorKind};
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+/// A failure at the boundary: the status to return and the message to keep.
+#[derive(Debug)]
+pub struct Fail(pub GlcolStatus, pub String);
+
+impl From<Error> for Fail {
+    fn from(e: Error) -> Fail {
+        let s = match e.kind {
+            ErrorKind::InvalidArgument => GlcolStatus::InvalidArgument,
+            ErrorKind::NonFinite => GlcolStatus::NonFinite,
+            ErrorKind::IndexOutOfRange => GlcolStatus::IndexOutOfRange,
+            ErrorKind::UnknownMesh => GlcolStatus::UnknownMesh,
+            ErrorKind::GlUnavailable => GlcolStatus::GlUnavailable,
+            ErrorKind::GlError => GlcolStatus::GlError,
+            ErrorKind::Unsupported => GlcolStatus::Unsupported,
+            ErrorKind::OutOfMemory => GlcolStatus::OutOfMemory,
+            ErrorKind::Internal => GlcolStatus::Internal,
+        };
+        Fail(s, e.message)
+    }
+}
+
+pub type FfiResult = Result<(), Fail>;
+
+/// `Err(NULL_POINTER)` naming `what` when `p` is NULL.
+pub fn non_null<T>(p: *const T, what: &str) -> FfiResult {
+    if p.is_null() {
+        Err(Fail(GlcolStatus::NullPointer, format!("{what} is NULL")))
+    } else {
+        Ok(())
+    }
+}
+
+pub fn invalid(msg: impl Into<String>) -> Fail {
+    Fail(GlcolStatus::InvalidArgument, msg.into())
+}
+
+/// Runs `f`, catching panics. Failures set the thread's last error message.
+pub fn guard(f: impl FnOnce() -> FfiResult) -> GlcolStatus {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(Ok(())) => GlcolStatus::Ok,
+        Ok(Err(Fail(status, msg))) => {
+            set_last_error(&msg);
+            status
+        }
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            set_last_error(&format!("internal error (please report): {what}"));
+            GlcolStatus::Internal
+        }
+    }
+}
+
+/// Runs `f` (which cannot fail) with panics caught; returns `default` after a panic.
+pub fn guard_or<T>(default: T, f: impl FnOnce() -> T) -> T {
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or(default)
+}
+
+pub fn set_last_error(msg: &str) {
+    let c = CString::new(msg.replace('\0', " ")).unwrap_or_default();
+    // try_with / try_borrow_mut: this path must never panic (thread teardown, reentrancy).
+    let _ = LAST_ERROR.try_with(|cell| {
+        if let Ok(mut slot) = cell.try_borrow_mut() {
+            *slot = c;
+        }
+    });
+}
+
+/// Pointer to the thread's last error message, valid until the next failing call on it.
+pub fn last_error_ptr() -> *const c_char {
+    static EMPTY: &[u8] = b"\0";
+    LAST_ERROR
+        .try_with(|cell| {
+            cell.try_borrow()
+                .map(|s| s.as_ptr())
+                .unwrap_or(EMPTY.as_ptr().cast())
+        })
+        .unwrap_or(EMPTY.as_ptr().cast())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::CStr;
+
+    #[test]
+    fn panics_become_internal_with_message() {
+        let s = guard(|| panic!("boom {}", 42));
+        assert_eq!(s, GlcolStatus::Internal);
+        let msg = unsafe { CStr::from_ptr(last_error_ptr()) }
+            .to_str()
+            .unwrap()
+            .to_owned();
+        assert!(msg.contains("boom 42"), "{msg}");
+        assert_eq!(guard_or(7, || panic!("x")), 7);
+    }
+
+    #[test]
+    fn errors_keep_their_status_and_message() {
+        let s = guard(|| Err(Error::new(ErrorKind::NonFinite, "vertex 3 is NaN").into()));
+        assert_eq!(s, GlcolStatus::NonFinite);
+        let msg = unsafe { CStr::from_ptr(last_error_ptr()) }
+            .to_str()
+            .unwrap()
+            .to_owned();
+        assert_eq!(msg, "vertex 3 is NaN");
+        assert_eq!(guard(|| Ok(())), GlcolStatus::Ok);
+    }
+}

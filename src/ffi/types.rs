@@ -1,0 +1,134 @@
+//! Types of the C API (`include/glcollide.h` is generated from these).
+
+use std::ffi::c_void;
+
+/// How a call went. Values are ABI: never renumber; new values are appended.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlcolStatus {
+    /// Success.
+    Ok = 0,
+    /// A required pointer was NULL.
+    NullPointer = 1,
+    /// Bad size, stride, count, epsilon, struct_size, enum value ...
+    InvalidArgument = 2,
+    /// A vertex coordinate is NaN or infinite.
+    NonFinite = 3,
+    /// A polygon names a vertex that does not exist.
+    IndexOutOfRange = 4,
+    /// Mesh id not in this scene (destroyed or never made).
+    UnknownMesh = 5,
+    /// GL backend asked for, but no loader / no current context / missing entry point /
+    /// version too low.
+    GlUnavailable = 6,
+    /// The GL reported an error during our work.
+    GlError = 7,
+    /// A valid request this build or context cannot do.
+    Unsupported = 8,
+    /// An allocation failed.
+    OutOfMemory = 9,
+    /// A bug (a caught panic); the scene is unchanged.
+    Internal = 10,
+}
+
+/// Which implementation answers a scene's queries. Values are ABI.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GlcolBackend {
+    /// Best available: GL_COMPUTE on a hardware GL 4.3+ context, CPU when there is no
+    /// loader or the renderer is a software one (llvmpipe, softpipe, SwiftShader).
+    Auto = 0,
+    /// Selection semantics computed on the CPU; needs no GL.
+    Cpu = 1,
+    /// The paper as published: glRenderMode(GL_SELECT); needs a compatibility-profile (or
+    /// <= 3.0) context.
+    GlSelect = 2,
+    /// The same queries as batched compute dispatches; needs GL 4.3+ core or compatibility.
+    GlCompute = 3,
+}
+
+/// Loads a GL entry point by name for the context current on the calling thread (like
+/// `eglGetProcAddress`, with a user pointer first).
+pub type GlcolGetProcAddress = Option<
+    unsafe extern "C" fn(user_data: *mut c_void, name: *const std::ffi::c_char) -> *mut c_void,
+>;
+
+/// Enum-typed values that come from C are read as plain integers and checked, since a
+/// Rust enum holding an unlisted value is undefined behaviour. The header still shows
+/// the enum names.
+/// cbindgen:ignore
+pub mod raw {
+    pub type GlcolStatus = u32;
+    pub type GlcolBackend = u32;
+}
+
+/// How to make a scene. Fill it with `glcol_scene_desc_init`, then change what you need.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GlcolSceneDesc {
+    /// `sizeof(GlcolSceneDesc)`: lets the struct grow in later versions.
+    pub struct_size: u32,
+    /// Which backend (default GLCOL_BACKEND_AUTO).
+    pub backend: raw::GlcolBackend,
+    /// NULL: CPU only. Otherwise GL entry points are loaded through it, for the context
+    /// current on the calling thread when `glcol_scene_create` runs.
+    pub get_proc_address: GlcolGetProcAddress,
+    /// Passed back to `get_proc_address`.
+    pub user_data: *mut c_void,
+    /// Viewing-volume depth in model units (the paper used 0.001). 0 on the CPU backend:
+    /// exact intersection of the closed polygons. Default 0. Must be finite and >= 0.
+    pub epsilon: f32,
+    /// Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
+    /// above).
+    pub max_polygons_per_box: u32,
+}
+
+/// A mesh to create. Positions and indices are copied; the caller keeps its arrays.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GlcolMeshDesc {
+    /// `sizeof(GlcolMeshDesc)`.
+    pub struct_size: u32,
+    /// x, y, z per vertex (4-byte aligned).
+    pub positions: *const f32,
+    /// Number of vertices (> 0).
+    pub vertex_count: usize,
+    /// Bytes from one vertex to the next: 0 (= 12, packed) or a multiple of 4 that is >= 12.
+    pub position_stride: usize,
+    /// `vertices_per_polygon` vertex indices per polygon (0-based, < vertex_count).
+    pub indices: *const u32,
+    /// Number of polygons (> 0).
+    pub polygon_count: usize,
+    /// 3 (triangles) or 4 (quads: the union of triangles (v0,v1,v2) and (v0,v2,v3)).
+    pub vertices_per_polygon: u32,
+}
+
+/// Id of a mesh within its scene (never 0, never reused within the scene).
+pub type GlcolMeshId = u32;
+
+/// One colliding polygon pair.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GlcolContact {
+    /// Polygon index in the reference mesh.
+    pub reference_polygon: u32,
+    /// The other mesh.
+    pub other_mesh: GlcolMeshId,
+    /// Polygon index in `other_mesh`.
+    pub other_polygon: u32,
+}
+
+/// A triangle mesh read by `glcol_obj_load` (arrays owned by the library until
+/// `glcol_obj_free`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct GlcolObjMesh {
+    /// x, y, z per vertex.
+    pub positions: *mut f32,
+    pub vertex_count: usize,
+    /// Three 0-based vertex indices per triangle.
+    pub indices: *mut u32,
+    pub polygon_count: usize,
+    /// Always 3 (larger faces are split into fans).
+    pub vertices_per_polygon: u32,
+}

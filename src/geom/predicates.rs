@@ -1,0 +1,83 @@
+//! Exact orientation predicates (Shewchuk's adaptive arithmetic, through the `robust` crate).
+//!
+//! Every coordinate the library sees is an `f32` widened to `f64`, which is exact, so these
+//! signs are the true signs of the determinants for the input geometry.
+
+use robust::{Coord, Coord3D};
+
+/// A point in `f64`.
+pub type P3 = [f64; 3];
+
+/// Sign of the orientation of `d` against the plane through `a`, `b`, `c`
+/// (positive, negative or exactly zero when the four points are coplanar).
+#[inline]
+pub fn orient3d(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
+    let p = |p: &P3| Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    };
+    robust::orient3d(p(a), p(b), p(c), p(d))
+}
+
+/// Sign of the 2D orientation of `c` against the line `a`-`b` (exactly zero when collinear).
+#[inline]
+pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    let p = |p: [f64; 2]| Coord { x: p[0], y: p[1] };
+    robust::orient2d(p(a), p(b), p(c))
+}
+
+/// Projection of a 3D point onto the coordinate plane that drops `axis`.
+#[inline]
+pub fn drop_axis(p: &P3, axis: usize) -> [f64; 2] {
+    match axis {
+        0 => [p[1], p[2]],
+        1 => [p[2], p[0]],
+        _ => [p[0], p[1]],
+    }
+}
+
+/// True when the three points are exactly collinear (or coincide): every coordinate-plane
+/// projection of the triangle has zero area.
+pub fn collinear(a: &P3, b: &P3, c: &P3) -> bool {
+    (0..3).all(|ax| orient2d(drop_axis(a, ax), drop_axis(b, ax), drop_axis(c, ax)) == 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orientation_signs_are_exact_near_degeneracy() {
+        // d is on the plane z = 0 up to one ulp of 1e5: naive arithmetic gets this wrong.
+        let a = [1e5, 1e5, 0.0];
+        let b = [1e5 + 1.0, 1e5, 0.0];
+        let c = [1e5, 1e5 + 1.0, 0.0];
+        let on = [1e5 + 0.3, 1e5 + 0.7, 0.0];
+        assert_eq!(orient3d(&a, &b, &c, &on), 0.0);
+        let above = [1e5 + 0.3, 1e5 + 0.7, f64::from(f32::MIN_POSITIVE)];
+        let below = [1e5 + 0.3, 1e5 + 0.7, -f64::from(f32::MIN_POSITIVE)];
+        let sa = orient3d(&a, &b, &c, &above);
+        let sb = orient3d(&a, &b, &c, &below);
+        assert!(sa != 0.0 && sb != 0.0 && sa.signum() != sb.signum());
+    }
+
+    #[test]
+    fn collinear_detects_exact_degeneracy_only() {
+        assert!(collinear(
+            &[0.0, 0.0, 0.0],
+            &[1.0, 1.0, 1.0],
+            &[3.0, 3.0, 3.0]
+        ));
+        assert!(collinear(
+            &[1.0, 2.0, 3.0],
+            &[1.0, 2.0, 3.0],
+            &[1.0, 2.0, 3.0]
+        ));
+        assert!(!collinear(
+            &[0.0, 0.0, 0.0],
+            &[1.0, 1.0, 1.0],
+            &[3.0, 3.0, 3.0 + 1e-12]
+        ));
+    }
+}

@@ -1,0 +1,293 @@
+//! Exact intersection of closed triangles, degenerate ones included.
+//!
+//! Two closed convex polygons intersect exactly when an edge of one meets the other (the
+//! intersection is convex; in the general case its ends lie on edges, in the coplanar case
+//! either the boundaries cross or one contains the other's edges). A degenerate triangle
+//! (a segment or a point) is the union of its edges, so the same rule covers it. Every
+//! decision below is the sign of an exact `orient3d` / `orient2d`: no epsilon, no NaN.
+
+use super::predicates::{collinear, drop_axis, orient2d, orient3d, P3};
+
+/// Do the closed triangles `t` and `u` share at least one point? Touching counts.
+pub fn triangles_intersect(t: &[P3; 3], u: &[P3; 3]) -> bool {
+    // Plane rejections: every vertex of one strictly on one side of the other's plane.
+    // (A degenerate triangle has all orientations 0 and never rejects.)
+    let ut = [
+        orient3d(&t[0], &t[1], &t[2], &u[0]),
+        orient3d(&t[0], &t[1], &t[2], &u[1]),
+        orient3d(&t[0], &t[1], &t[2], &u[2]),
+    ];
+    if strictly_one_side(&ut) {
+        return false;
+    }
+    let tu = [
+        orient3d(&u[0], &u[1], &u[2], &t[0]),
+        orient3d(&u[0], &u[1], &u[2], &t[1]),
+        orient3d(&u[0], &u[1], &u[2], &t[2]),
+    ];
+    if strictly_one_side(&tu) {
+        return false;
+    }
+    let t_flat = collinear(&t[0], &t[1], &t[2]);
+    let u_flat = collinear(&u[0], &u[1], &u[2]);
+    for i in 0..3 {
+        let j = (i + 1) % 3;
+        if segment_triangle(&u[i], &u[j], [ut[i], ut[j]], t, t_flat) {
+            return true;
+        }
+        if segment_triangle(&t[i], &t[j], [tu[i], tu[j]], u, u_flat) {
+            return true;
+        }
+    }
+    false
+}
+
+#[inline]
+fn strictly_one_side(o: &[f64; 3]) -> bool {
+    (o[0] > 0.0 && o[1] > 0.0 && o[2] > 0.0) || (o[0] < 0.0 && o[1] < 0.0 && o[2] < 0.0)
+}
+
+/// Does the closed segment `a`-`b` meet the closed triangle `t`? `o` holds the orientations of
+/// `a` and `b` against `t`'s plane; `t_flat` says whether `t` is degenerate.
+fn segment_triangle(a: &P3, b: &P3, o: [f64; 2], t: &[P3; 3], t_flat: bool) -> bool {
+    if t_flat {
+        // A segment or a point: the union of its edges.
+        return (0..3).any(|i| segments_intersect(a, b, &t[i], &t[(i + 1) % 3]));
+    }
+    if (o[0] > 0.0 && o[1] > 0.0) || (o[0] < 0.0 && o[1] < 0.0) {
+        return false;
+    }
+    if o[0] == 0.0 && o[1] == 0.0 {
+        // Coplanar: decide in a coordinate plane where the triangle keeps its area.
+        let ax = (0..3)
+            .find(|&ax| {
+                orient2d(
+                    drop_axis(&t[0], ax),
+                    drop_axis(&t[1], ax),
+                    drop_axis(&t[2], ax),
+                ) != 0.0
+            })
+            .expect("a non-degenerate triangle has a projection with area");
+        let p = |q: &P3| drop_axis(q, ax);
+        let tt = [p(&t[0]), p(&t[1]), p(&t[2])];
+        return point_in_triangle_2d(p(a), &tt)
+            || point_in_triangle_2d(p(b), &tt)
+            || (0..3).any(|i| segments_intersect_2d(p(a), p(b), tt[i], tt[(i + 1) % 3]));
+    }
+    // The segment crosses (or touches) the plane at one point; the line a-b is not in the
+    // plane, so it passes through the closed triangle iff the three edge orientations agree.
+    let s = [
+        orient3d(a, b, &t[0], &t[1]),
+        orient3d(a, b, &t[1], &t[2]),
+        orient3d(a, b, &t[2], &t[0]),
+    ];
+    let pos = s.iter().any(|&v| v > 0.0);
+    let neg = s.iter().any(|&v| v < 0.0);
+    !(pos && neg)
+}
+
+/// Closed segments in 3D (either may be a single point).
+pub fn segments_intersect(a: &P3, b: &P3, c: &P3, d: &P3) -> bool {
+    if orient3d(a, b, c, d) != 0.0 {
+        return false;
+    }
+    // Coplanar (or lower-dimensional): at least one coordinate projection is one-to-one on
+    // the points' affine hull, and every projection of meeting segments meets, so requiring
+    // all three is exact.
+    (0..3).all(|ax| {
+        segments_intersect_2d(
+            drop_axis(a, ax),
+            drop_axis(b, ax),
+            drop_axis(c, ax),
+            drop_axis(d, ax),
+        )
+    })
+}
+
+/// Closed point-in-triangle for a triangle of non-zero area.
+fn point_in_triangle_2d(p: [f64; 2], t: &[[f64; 2]; 3]) -> bool {
+    let o = [
+        orient2d(t[0], t[1], p),
+        orient2d(t[1], t[2], p),
+        orient2d(t[2], t[0], p),
+    ];
+    let pos = o.iter().any(|&v| v > 0.0);
+    let neg = o.iter().any(|&v| v < 0.0);
+    !(pos && neg)
+}
+
+/// Closed segments in 2D (either may be a single point).
+pub fn segments_intersect_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let d1 = orient2d(c, d, a);
+    let d2 = orient2d(c, d, b);
+    let d3 = orient2d(a, b, c);
+    let d4 = orient2d(a, b, d);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    (d1 == 0.0 && in_box(c, d, a))
+        || (d2 == 0.0 && in_box(c, d, b))
+        || (d3 == 0.0 && in_box(a, b, c))
+        || (d4 == 0.0 && in_box(a, b, d))
+}
+
+/// `p` (known collinear with `a`-`b`) lies within the segment's bounding box.
+#[inline]
+fn in_box(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> bool {
+    p[0] >= a[0].min(b[0])
+        && p[0] <= a[0].max(b[0])
+        && p[1] >= a[1].min(b[1])
+        && p[1] <= a[1].max(b[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tri(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [P3; 3] {
+        [a, b, c]
+    }
+
+    fn both_ways(t: &[P3; 3], u: &[P3; 3]) -> bool {
+        let r = triangles_intersect(t, u);
+        assert_eq!(r, triangles_intersect(u, t), "asymmetric answer");
+        r
+    }
+
+    #[test]
+    fn crossing_and_separated() {
+        let t = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        assert!(both_ways(
+            &t,
+            &tri([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.3, 0.3, 1.0])
+        ));
+        assert!(!both_ways(
+            &t,
+            &tri([0.2, 0.2, 0.1], [0.2, 0.2, 1.0], [0.3, 0.3, 1.0])
+        ));
+        // Crosses the plane outside the triangle.
+        assert!(!both_ways(
+            &t,
+            &tri([0.8, 0.8, -1.0], [0.8, 0.8, 1.0], [0.9, 0.9, 1.0])
+        ));
+    }
+
+    #[test]
+    fn touching_counts() {
+        let t = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        // Vertex on the face.
+        assert!(both_ways(
+            &t,
+            &tri([0.25, 0.25, 0.0], [0.2, 0.2, 1.0], [0.3, 0.4, 1.0])
+        ));
+        // Shared edge, different planes.
+        assert!(both_ways(
+            &t,
+            &tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.0, 1.0])
+        ));
+        // Shared vertex only.
+        assert!(both_ways(
+            &t,
+            &tri([1.0, 0.0, 0.0], [2.0, 0.0, 1.0], [2.0, 1.0, 1.0])
+        ));
+        // Vertex on an edge from the other side.
+        assert!(both_ways(
+            &t,
+            &tri([0.5, 0.0, 0.0], [0.5, -1.0, 1.0], [0.5, -1.0, -1.0])
+        ));
+    }
+
+    #[test]
+    fn coplanar_cases() {
+        let t = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        // Overlapping.
+        assert!(both_ways(
+            &t,
+            &tri([0.2, 0.2, 0.0], [2.0, 0.2, 0.0], [0.2, 2.0, 0.0])
+        ));
+        // Contained.
+        assert!(both_ways(
+            &t,
+            &tri([0.1, 0.1, 0.0], [0.2, 0.1, 0.0], [0.1, 0.2, 0.0])
+        ));
+        // Sharing an edge segment, on the other side.
+        assert!(both_ways(
+            &t,
+            &tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, -1.0, 0.0])
+        ));
+        // Apart, with a gap of one f32 ulp at 1.
+        let g = 1.0 + f64::from(f32::EPSILON);
+        assert!(!both_ways(
+            &t,
+            &tri([g, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0])
+        ));
+    }
+
+    #[test]
+    fn degenerate_triangles() {
+        let t = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        // A segment piercing the face.
+        assert!(both_ways(
+            &t,
+            &tri([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.2, 0.2, 0.5])
+        ));
+        // A point on the face, and one just above it.
+        assert!(both_ways(
+            &t,
+            &tri([0.2, 0.2, 0.0], [0.2, 0.2, 0.0], [0.2, 0.2, 0.0])
+        ));
+        assert!(!both_ways(
+            &t,
+            &tri([0.2, 0.2, 1e-30], [0.2, 0.2, 1e-30], [0.2, 0.2, 1e-30])
+        ));
+        // Two crossing segments, and two parallel ones.
+        let s = tri([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+        assert!(both_ways(
+            &s,
+            &tri([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0])
+        ));
+        assert!(!both_ways(
+            &s,
+            &tri([-1.0, 1e-9, 0.0], [1.0, 1e-9, 0.0], [1.0, 1e-9, 0.0])
+        ));
+        // Collinear overlapping segments, and collinear disjoint ones.
+        assert!(both_ways(
+            &s,
+            &tri([0.5, 0.0, 0.0], [3.0, 0.0, 0.0], [3.0, 0.0, 0.0])
+        ));
+        assert!(!both_ways(
+            &s,
+            &tri([1.5, 0.0, 0.0], [3.0, 0.0, 0.0], [3.0, 0.0, 0.0])
+        ));
+        // Segment lying in the triangle's plane, crossing it.
+        assert!(both_ways(
+            &t,
+            &tri([-1.0, 0.3, 0.0], [2.0, 0.3, 0.0], [2.0, 0.3, 0.0])
+        ));
+    }
+
+    #[test]
+    fn far_from_origin_is_decided_exactly() {
+        let o = 1e5;
+        let t = tri([o, o, o], [o + 1.0, o, o], [o, o + 1.0, o]);
+        let ulp = 2f64.powi(-7); // one f32 ulp at 1e5
+        assert!(both_ways(
+            &t,
+            &tri(
+                [o + 0.25, o + 0.25, o],
+                [o + 0.25, o + 0.25, o + 1.0],
+                [o + 0.5, o + 0.25, o + 1.0]
+            )
+        ));
+        assert!(!both_ways(
+            &t,
+            &tri(
+                [o + 0.25, o + 0.25, o + ulp],
+                [o + 0.25, o + 0.25, o + 1.0],
+                [o + 0.5, o + 0.25, o + 1.0]
+            )
+        ));
+    }
+}

@@ -1,0 +1,218 @@
+//! Viewing volumes (paper section 2.3) and the selection test against them.
+//!
+//! A polygon's viewing volume is the polygon thickened by `h = epsilon / 2` along its normal:
+//! the orthographic box around the polygon's 2D bounding box in its own plane, depth
+//! `[-h, h]`, cut by clip planes along the slanted edges. For a triangle that is the right
+//! prism over the triangle (two caps, three edge planes), which is how it is stored here.
+//! A degenerate triangle has no plane; its volume is the box of half-width `h/sqrt(2)` around
+//! its segment (or `h/sqrt(3)` around its point), so every point of every volume lies within
+//! `h` of the polygon.
+//!
+//! "A primitive is selected when any part of it survives clipping against the volume's
+//! planes": [`Cell::meets_triangle`] clips the candidate (Sutherland-Hodgman, closed
+//! half-spaces) in `f64`, in a frame whose origin is the reference polygon's first vertex, so
+//! the answer does not depend on the distance from the world origin.
+
+use super::predicates::{collinear, P3};
+
+/// A convex viewing volume: the points `x` with `n . (x - origin) + d >= 0` for every plane.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    origin: P3,
+    planes: [[f64; 4]; 6],
+    count: usize,
+}
+
+#[inline]
+fn sub(a: &P3, b: &P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+#[inline]
+fn dot(a: &P3, b: &P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+#[inline]
+fn cross(a: &P3, b: &P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+#[inline]
+fn scale(a: &P3, s: f64) -> P3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+#[inline]
+fn unit(a: &P3) -> P3 {
+    scale(a, 1.0 / dot(a, a).sqrt())
+}
+
+impl Cell {
+    /// The viewing volume of triangle `t` with half-depth `h` (`h > 0`).
+    pub fn of_triangle(t: &[P3; 3], h: f64) -> Cell {
+        let origin = t[0];
+        let a = sub(&t[1], &origin);
+        let b = sub(&t[2], &origin);
+        let mut cell = Cell {
+            origin,
+            planes: [[0.0; 4]; 6],
+            count: 0,
+        };
+        if collinear(&t[0], &t[1], &t[2]) {
+            cell.set_degenerate(&[[0.0; 3], a, b], h);
+            return cell;
+        }
+        let n = unit(&cross(&a, &b));
+        cell.push(n, h);
+        cell.push(scale(&n, -1.0), h);
+        let v = [[0.0; 3], a, b];
+        for i in 0..3 {
+            let p = v[i];
+            let e = sub(&v[(i + 1) % 3], &p);
+            // n x e points into the triangle for the winding that gave n.
+            let m = unit(&cross(&n, &e));
+            cell.push(m, -dot(&m, &p));
+        }
+        cell
+    }
+
+    /// Box around a segment or point given in local coordinates.
+    fn set_degenerate(&mut self, v: &[P3; 3], h: f64) {
+        let (mut p, mut q, mut best) = (0, 0, 0.0);
+        for i in 0..3 {
+            for j in i + 1..3 {
+                let d = sub(&v[j], &v[i]);
+                let l = dot(&d, &d);
+                if l > best {
+                    (p, q, best) = (i, j, l);
+                }
+            }
+        }
+        let (u, r) = if best > 0.0 {
+            (unit(&sub(&v[q], &v[p])), h / 2f64.sqrt())
+        } else {
+            ([1.0, 0.0, 0.0], h / 3f64.sqrt())
+        };
+        // Two unit vectors orthogonal to u.
+        let k = if u[0].abs() <= u[1].abs() && u[0].abs() <= u[2].abs() {
+            [1.0, 0.0, 0.0]
+        } else if u[1].abs() <= u[2].abs() {
+            [0.0, 1.0, 0.0]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        let w1 = unit(&cross(&u, &k));
+        let w2 = cross(&u, &w1);
+        let (lo, hi) = (dot(&u, &v[p]), dot(&u, &v[q]));
+        let along = if best > 0.0 { 0.0 } else { r };
+        self.push(u, -lo + along);
+        self.push(scale(&u, -1.0), hi + along);
+        let c = v[p];
+        for w in [w1, w2] {
+            let off = dot(&w, &c);
+            self.push(w, r - off);
+            self.push(scale(&w, -1.0), r + off);
+        }
+    }
+
+    fn push(&mut self, n: P3, d: f64) {
+        self.planes[self.count] = [n[0], n[1], n[2], d];
+        self.count += 1;
+    }
+
+    /// Does any part of the closed triangle `u` (world coordinates) survive clipping
+    /// against this volume?
+    pub fn meets_triangle(&self, u: &[P3; 3]) -> bool {
+        let mut buf = [[[0.0f64; 3]; 12]; 2];
+        let mut n = 3;
+        for (i, p) in u.iter().enumerate() {
+            buf[0][i] = sub(p, &self.origin);
+        }
+        let mut src = 0;
+        for pl in &self.planes[..self.count] {
+            let dist = |x: &P3| pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] + pl[3];
+            let dst = 1 - src;
+            let mut m = 0;
+            for i in 0..n {
+                let c = buf[src][i];
+                let nx = buf[src][(i + 1) % n];
+                let (dc, dn) = (dist(&c), dist(&nx));
+                if dc >= 0.0 {
+                    buf[dst][m] = c;
+                    m += 1;
+                }
+                if (dc >= 0.0) != (dn >= 0.0) {
+                    let t = dc / (dc - dn);
+                    buf[dst][m] = [
+                        c[0] + (nx[0] - c[0]) * t,
+                        c[1] + (nx[1] - c[1]) * t,
+                        c[2] + (nx[2] - c[2]) * t,
+                    ];
+                    m += 1;
+                }
+            }
+            if m == 0 {
+                return false;
+            }
+            n = m;
+            src = dst;
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const T: [P3; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+    #[test]
+    fn prism_depth_and_edges() {
+        let c = Cell::of_triangle(&T, 0.01);
+        let flat = |z: f64, x: f64, y: f64| [[x, y, z], [x + 0.01, y, z], [x, y + 0.01, z]];
+        assert!(c.meets_triangle(&flat(0.009, 0.2, 0.2)));
+        assert!(c.meets_triangle(&flat(-0.009, 0.2, 0.2)));
+        assert!(!c.meets_triangle(&flat(0.011, 0.2, 0.2)));
+        // Beyond the hypotenuse, inside the triangle's 2D bounding box: the clip plane cuts it.
+        assert!(!c.meets_triangle(&flat(0.0, 0.6, 0.6)));
+        assert!(c.meets_triangle(&flat(0.0, 0.45, 0.45)));
+    }
+
+    #[test]
+    fn slanted_polygon_far_from_origin() {
+        let o = [1e5, -1e5, 1e5];
+        let t = [
+            o,
+            [o[0] + 1.0, o[1], o[2] + 1.0],
+            [o[0], o[1] + 1.0, o[2] + 1.0],
+        ];
+        let c = Cell::of_triangle(&t, 5e-4); // epsilon 1e-3
+                                             // A needle through the centroid, perpendicular to the triangle.
+        let g = [o[0] + 1.0 / 3.0, o[1] + 1.0 / 3.0, o[2] + 2.0 / 3.0];
+        let n = [1.0, 1.0, -1.0];
+        let needle = |s: f64, t: f64| {
+            let a = [g[0] + n[0] * s, g[1] + n[1] * s, g[2] + n[2] * s];
+            let b = [g[0] + n[0] * t, g[1] + n[1] * t, g[2] + n[2] * t];
+            [a, b, b]
+        };
+        assert!(c.meets_triangle(&needle(-1.0, 1.0)));
+        // |n| = sqrt(3): the needle starts 2.5e-4 * sqrt(3) = 4.3e-4 above the plane.
+        assert!(c.meets_triangle(&needle(2.5e-4, 1.0)));
+        assert!(!c.meets_triangle(&needle(3.0e-4, 1.0)));
+    }
+
+    #[test]
+    fn degenerate_reference_is_a_thin_box() {
+        let seg = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, 0.0, 0.0]];
+        let c = Cell::of_triangle(&seg, 0.1);
+        let pt = |x: f64, y: f64, z: f64| [[x, y, z]; 3];
+        assert!(c.meets_triangle(&pt(0.5, 0.07, 0.0)));
+        assert!(!c.meets_triangle(&pt(0.5, 0.071, 0.0)));
+        assert!(!c.meets_triangle(&pt(1.01, 0.0, 0.0)));
+        let p = Cell::of_triangle(&[[2.0, 2.0, 2.0]; 3], 0.1);
+        assert!(p.meets_triangle(&pt(2.05, 2.05, 2.05)));
+        assert!(!p.meets_triangle(&pt(2.06, 2.0, 2.0)));
+    }
+}

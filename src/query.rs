@@ -1,0 +1,264 @@
+//! The collision query of paper section 2.2, steps 1 to 5, asked through a [`Selector`].
+//!
+//! Every polygon lies in exactly one leaf, so a polygon pair is asked about at most once
+//! in step 5: through the one (reference leaf, other leaf) pair that holds it.
+
+use crate::backend::{Batch, Group, Hit, Prim, QueryMeshes, Selector, Step, ROOT};
+use crate::error::Result;
+
+/// One colliding polygon pair, in the caller's numbering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Contact {
+    /// Id of the other mesh (first: contacts sort by mesh, then by the polygons).
+    pub other_mesh: u32,
+    /// Polygon index in the reference mesh.
+    pub reference_polygon: u32,
+    /// Polygon index in the other mesh.
+    pub other_polygon: u32,
+}
+
+/// How much each step asked and found in the last query.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QueryStats {
+    /// Volume-candidate tests asked for, steps 1 to 5.
+    pub tests: [usize; 5],
+    /// Hits returned, steps 1 to 5.
+    pub hits: [usize; 5],
+}
+
+/// Buffers reused from query to query.
+#[derive(Default)]
+pub struct Workspace {
+    batch: Batch,
+    hits: Vec<Hit>,
+    /// Step 1: other meshes' leaves that meet the reference root.
+    others: Vec<Prim>,
+    /// Step 2: (other leaf, reference leaf) pairs whose boxes meet.
+    pairs: Vec<(Prim, u32)>,
+    /// Steps 3 and 4: the pair each candidate polygon came through.
+    cand_pair: Vec<u32>,
+    /// Step 3: (pair, reference polygon); step 4: (pair, other polygon).
+    ref_polys: Vec<(u32, u32)>,
+    other_polys: Vec<(u32, u32)>,
+    by_ref_leaf: Vec<u32>,
+    pub stats: QueryStats,
+}
+
+impl Workspace {
+    fn ask(&mut self, sel: &mut dyn Selector, q: &QueryMeshes<'_>, step: usize) -> Result<()> {
+        self.hits.clear();
+        self.stats.tests[step] = self.batch.tests();
+        if !self.batch.groups.is_empty() {
+            sel.select(q, &self.batch, &mut self.hits)?;
+        }
+        self.stats.hits[step] = self.hits.len();
+        Ok(())
+    }
+}
+
+/// Runs the five steps for `q.meshes[0]` against the others; appends contacts to `out`
+/// (sorted, each pair once).
+pub fn run(
+    sel: &mut dyn Selector,
+    q: &QueryMeshes<'_>,
+    ws: &mut Workspace,
+    out: &mut Vec<Contact>,
+) -> Result<()> {
+    out.clear();
+    ws.stats = QueryStats::default();
+    let h = q.half_depth;
+    let reference = q.meshes[0].1;
+
+    // Step 1: the other meshes' boxes inside the reference's root box.
+    ws.batch.reset(Step::BoxesInBoxes);
+    ws.batch.volumes.push(Prim {
+        mesh: 0,
+        index: ROOT,
+    });
+    for (mi, (_, m)) in q.meshes.iter().enumerate().skip(1) {
+        if reference.root().overlaps(&m.root(), h) {
+            ws.batch
+                .candidates
+                .extend((0..m.leaf_count() as u32).map(|index| Prim {
+                    mesh: mi as u32,
+                    index,
+                }));
+        }
+    }
+    if ws.batch.candidates.is_empty() {
+        return Ok(());
+    }
+    ws.batch.groups.push(Group {
+        volumes: 0..1,
+        candidates: 0..ws.batch.candidates.len() as u32,
+    });
+    ws.ask(sel, q, 0)?;
+    ws.others.clear();
+    ws.others.extend(
+        ws.hits
+            .iter()
+            .map(|h| ws.batch.candidates[h.candidate as usize]),
+    );
+    ws.others.sort_unstable_by_key(|p| (p.mesh, p.index));
+    if ws.others.is_empty() {
+        return Ok(());
+    }
+
+    // Step 2: for each of those boxes, the reference's leaf boxes inside it.
+    ws.batch.reset(Step::BoxesInBoxes);
+    ws.batch.volumes.extend_from_slice(&ws.others);
+    ws.batch
+        .candidates
+        .extend((0..reference.leaf_count() as u32).map(|index| Prim { mesh: 0, index }));
+    ws.batch.groups.push(Group {
+        volumes: 0..ws.others.len() as u32,
+        candidates: 0..ws.batch.candidates.len() as u32,
+    });
+    ws.ask(sel, q, 1)?;
+    ws.pairs.clear();
+    ws.pairs.extend(ws.hits.iter().map(|h| {
+        (
+            ws.others[h.volume as usize],
+            ws.batch.candidates[h.candidate as usize].index,
+        )
+    }));
+    ws.pairs
+        .sort_unstable_by_key(|(b, r)| (b.mesh, b.index, *r));
+    if ws.pairs.is_empty() {
+        return Ok(());
+    }
+
+    // Step 3 (combined with step 2, as the paper suggests): for each other box B, the
+    // reference polygons of the leaves paired with B that lie inside B.
+    ws.batch.reset(Step::PolygonsInBoxes);
+    ws.cand_pair.clear();
+    let mut i = 0;
+    while i < ws.pairs.len() {
+        let b = ws.pairs[i].0;
+        let (v, c0) = (
+            ws.batch.volumes.len() as u32,
+            ws.batch.candidates.len() as u32,
+        );
+        ws.batch.volumes.push(b);
+        while i < ws.pairs.len() && ws.pairs[i].0 == b {
+            for p in reference.leaves().polys(ws.pairs[i].1 as usize) {
+                ws.batch.candidates.push(Prim {
+                    mesh: 0,
+                    index: p as u32,
+                });
+                ws.cand_pair.push(i as u32);
+            }
+            i += 1;
+        }
+        ws.batch.groups.push(Group {
+            volumes: v..v + 1,
+            candidates: c0..ws.batch.candidates.len() as u32,
+        });
+    }
+    ws.ask(sel, q, 2)?;
+    ws.ref_polys.clear();
+    ws.ref_polys.extend(ws.hits.iter().map(|h| {
+        (
+            ws.cand_pair[h.candidate as usize],
+            ws.batch.candidates[h.candidate as usize].index,
+        )
+    }));
+
+    // Step 4: for each reference leaf R, the other meshes' polygons of the boxes paired
+    // with R that lie inside R.
+    ws.by_ref_leaf.clear();
+    ws.by_ref_leaf.extend(0..ws.pairs.len() as u32);
+    let pairs = &ws.pairs;
+    ws.by_ref_leaf
+        .sort_unstable_by_key(|&k| (pairs[k as usize].1, k));
+    ws.batch.reset(Step::PolygonsInBoxes);
+    ws.cand_pair.clear();
+    let mut i = 0;
+    while i < ws.by_ref_leaf.len() {
+        let r = ws.pairs[ws.by_ref_leaf[i] as usize].1;
+        let (v, c0) = (
+            ws.batch.volumes.len() as u32,
+            ws.batch.candidates.len() as u32,
+        );
+        ws.batch.volumes.push(Prim { mesh: 0, index: r });
+        while i < ws.by_ref_leaf.len() && ws.pairs[ws.by_ref_leaf[i] as usize].1 == r {
+            let k = ws.by_ref_leaf[i];
+            let b = ws.pairs[k as usize].0;
+            for p in q.mesh(b).leaves().polys(b.index as usize) {
+                ws.batch.candidates.push(Prim {
+                    mesh: b.mesh,
+                    index: p as u32,
+                });
+                ws.cand_pair.push(k);
+            }
+            i += 1;
+        }
+        ws.batch.groups.push(Group {
+            volumes: v..v + 1,
+            candidates: c0..ws.batch.candidates.len() as u32,
+        });
+    }
+    ws.ask(sel, q, 3)?;
+    ws.other_polys.clear();
+    ws.other_polys.extend(ws.hits.iter().map(|h| {
+        (
+            ws.cand_pair[h.candidate as usize],
+            ws.batch.candidates[h.candidate as usize].index,
+        )
+    }));
+
+    // Step 5: for each leaf pair, every reference polygon found in step 3 becomes a viewing
+    // volume (section 2.3) and the other polygons found in step 4 are drawn into it.
+    ws.ref_polys.sort_unstable();
+    ws.other_polys.sort_unstable();
+    ws.batch.reset(Step::PolygonsInPolygons);
+    let (mut a, mut b) = (0, 0);
+    while a < ws.ref_polys.len() && b < ws.other_polys.len() {
+        let (pa, pb) = (ws.ref_polys[a].0, ws.other_polys[b].0);
+        if pa < pb {
+            a += 1;
+            continue;
+        }
+        if pb < pa {
+            b += 1;
+            continue;
+        }
+        let (v0, c0) = (
+            ws.batch.volumes.len() as u32,
+            ws.batch.candidates.len() as u32,
+        );
+        while a < ws.ref_polys.len() && ws.ref_polys[a].0 == pa {
+            ws.batch.volumes.push(Prim {
+                mesh: 0,
+                index: ws.ref_polys[a].1,
+            });
+            a += 1;
+        }
+        let mesh = ws.pairs[pa as usize].0.mesh;
+        while b < ws.other_polys.len() && ws.other_polys[b].0 == pa {
+            ws.batch.candidates.push(Prim {
+                mesh,
+                index: ws.other_polys[b].1,
+            });
+            b += 1;
+        }
+        ws.batch.groups.push(Group {
+            volumes: v0..ws.batch.volumes.len() as u32,
+            candidates: c0..ws.batch.candidates.len() as u32,
+        });
+    }
+    ws.ask(sel, q, 4)?;
+    out.extend(ws.hits.iter().map(|h| {
+        let v = ws.batch.volumes[h.volume as usize];
+        let c = ws.batch.candidates[h.candidate as usize];
+        let (id, m) = q.meshes[c.mesh as usize];
+        Contact {
+            other_mesh: id,
+            reference_polygon: reference.poly_ids[v.index as usize],
+            other_polygon: m.poly_ids[c.index as usize],
+        }
+    }));
+    out.sort_unstable();
+    out.dedup();
+    Ok(())
+}

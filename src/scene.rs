@@ -1,0 +1,189 @@
+//! A scene: meshes by id, one backend, and the last query's contacts.
+
+use std::collections::BTreeMap;
+
+use crate::backend::cpu::CpuSelector;
+use crate::backend::{Backend, QueryMeshes, Selector};
+use crate::error::{Error, ErrorKind, Result};
+use crate::mesh::{Mesh, Positions};
+use crate::query::{self, Contact, QueryStats, Workspace};
+
+/// Id of a mesh in its scene. Ids start at 1 and are never reused within a scene.
+pub type MeshId = u32;
+
+/// How a scene answers queries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneConfig {
+    /// Viewing-volume depth in model units; 0 asks for exact intersection (CPU backend).
+    pub epsilon: f32,
+    /// Leaf size; 0 applies the paper's rule of thumb.
+    pub max_polygons_per_box: u32,
+}
+
+impl Default for SceneConfig {
+    fn default() -> Self {
+        SceneConfig {
+            epsilon: 0.0,
+            max_polygons_per_box: 0,
+        }
+    }
+}
+
+impl SceneConfig {
+    /// Checks the values; the message names the field at fault.
+    pub fn validate(&self) -> Result<()> {
+        if !self.epsilon.is_finite() || self.epsilon < 0.0 {
+            return Err(Error::invalid(format!(
+                "epsilon is {}; it must be finite and >= 0",
+                self.epsilon
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Meshes, a backend and the last query's answer.
+pub struct Scene {
+    config: SceneConfig,
+    meshes: BTreeMap<MeshId, Mesh>,
+    next_id: MeshId,
+    selector: Box<dyn Selector>,
+    workspace: Workspace,
+    contacts: Vec<Contact>,
+}
+
+impl Scene {
+    /// A scene on the CPU backend.
+    pub fn new(config: SceneConfig) -> Result<Scene> {
+        Scene::with_selector(config, Box::new(CpuSelector::new()))
+    }
+
+    /// A scene answering through `selector`.
+    pub fn with_selector(config: SceneConfig, selector: Box<dyn Selector>) -> Result<Scene> {
+        config.validate()?;
+        Ok(Scene {
+            config,
+            meshes: BTreeMap::new(),
+            next_id: 1,
+            selector,
+            workspace: Workspace::default(),
+            contacts: Vec::new(),
+        })
+    }
+
+    pub fn config(&self) -> &SceneConfig {
+        &self.config
+    }
+
+    pub fn backend(&self) -> Backend {
+        self.selector.backend()
+    }
+
+    /// Adds a mesh (`vertices_per_polygon` indices per polygon in `indices`).
+    pub fn create_mesh(
+        &mut self,
+        positions: Positions<'_>,
+        indices: &[u32],
+        vertices_per_polygon: usize,
+    ) -> Result<MeshId> {
+        if self.next_id == MeshId::MAX {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                "this scene has used up its 2^32 - 2 mesh ids",
+            ));
+        }
+        let mesh = Mesh::new(
+            positions,
+            indices,
+            vertices_per_polygon,
+            self.config.max_polygons_per_box as usize,
+        )?;
+        let id = self.next_id;
+        self.next_id += 1;
+        self.meshes.insert(id, mesh);
+        Ok(id)
+    }
+
+    pub fn mesh(&self, id: MeshId) -> Result<&Mesh> {
+        self.meshes.get(&id).ok_or_else(|| unknown(id))
+    }
+
+    fn mesh_mut(&mut self, id: MeshId) -> Result<&mut Mesh> {
+        self.meshes.get_mut(&id).ok_or_else(|| unknown(id))
+    }
+
+    /// Ids of the live meshes, ascending.
+    pub fn mesh_ids(&self) -> impl Iterator<Item = MeshId> + '_ {
+        self.meshes.keys().copied()
+    }
+
+    /// Moves vertices `first..first + positions.len()` and refits the mesh's boxes.
+    pub fn update_positions(
+        &mut self,
+        id: MeshId,
+        first: usize,
+        positions: Positions<'_>,
+    ) -> Result<()> {
+        self.mesh_mut(id)?.update_positions(first, positions)
+    }
+
+    pub fn set_enabled(&mut self, id: MeshId, enabled: bool) -> Result<()> {
+        self.mesh_mut(id)?.enabled = enabled;
+        Ok(())
+    }
+
+    pub fn destroy_mesh(&mut self, id: MeshId) -> Result<()> {
+        self.meshes.remove(&id).map(drop).ok_or_else(|| unknown(id))
+    }
+
+    /// Collides `reference` with every other enabled mesh. Contacts are sorted by (other
+    /// mesh, reference polygon, other polygon), each pair once. A disabled reference has
+    /// no contacts.
+    pub fn query(&mut self, reference: MeshId) -> Result<&[Contact]> {
+        let r = self
+            .meshes
+            .get(&reference)
+            .ok_or_else(|| unknown(reference))?;
+        let mut meshes = vec![(reference, r)];
+        if r.enabled {
+            meshes.extend(
+                self.meshes
+                    .iter()
+                    .filter(|(&id, m)| id != reference && m.enabled)
+                    .map(|(&id, m)| (id, m)),
+            );
+        }
+        let q = QueryMeshes {
+            meshes,
+            half_depth: f64::from(self.config.epsilon) / 2.0,
+        };
+        let mut out = Vec::new();
+        std::mem::swap(&mut out, &mut self.contacts);
+        let res = if q.meshes.len() > 1 {
+            query::run(self.selector.as_mut(), &q, &mut self.workspace, &mut out)
+        } else {
+            out.clear();
+            Ok(())
+        };
+        std::mem::swap(&mut out, &mut self.contacts);
+        res?;
+        Ok(&self.contacts)
+    }
+
+    /// The contacts of the last successful query.
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts
+    }
+
+    /// What each step asked and found in the last query.
+    pub fn stats(&self) -> QueryStats {
+        self.workspace.stats
+    }
+}
+
+fn unknown(id: MeshId) -> Error {
+    Error::new(
+        ErrorKind::UnknownMesh,
+        format!("mesh id {id} is not in this scene (destroyed, or never created)"),
+    )
+}

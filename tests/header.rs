@@ -1,0 +1,68 @@
+//! The checked-in include/glcollide.h must be exactly what cbindgen makes from the sources
+//! now. To refresh it: `cargo test --test header -- --ignored regenerate` (or run
+//! `cbindgen --config cbindgen.toml --output include/glcollide.h`).
+
+use std::path::Path;
+
+fn generate() -> String {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let config = cbindgen::Config::from_file(dir.join("cbindgen.toml")).expect("cbindgen.toml");
+    let mut out = Vec::new();
+    cbindgen::Builder::new()
+        .with_crate(dir)
+        .with_config(config)
+        .generate()
+        .expect("cbindgen failed")
+        .write(&mut out);
+    String::from_utf8(out).unwrap()
+}
+
+#[test]
+fn checked_in_header_is_current() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("include/glcollide.h");
+    let on_disk = std::fs::read_to_string(&path).expect("include/glcollide.h");
+    let fresh = generate();
+    if on_disk != fresh {
+        let line = on_disk
+            .lines()
+            .zip(fresh.lines())
+            .position(|(a, b)| a != b)
+            .unwrap_or(0);
+        panic!(
+            "include/glcollide.h is stale (first difference at line {}); regenerate it with \
+             `cargo test --test header -- --ignored regenerate`",
+            line + 1
+        );
+    }
+}
+
+#[test]
+fn every_function_is_documented_and_prefixed() {
+    let fresh = generate();
+    let lines: Vec<&str> = fresh.lines().collect();
+    for (i, l) in lines.iter().enumerate() {
+        if let Some(name) = l
+            .split('(')
+            .next()
+            .and_then(|s| s.split_whitespace().last())
+        {
+            if l.contains('(')
+                && !l.starts_with("//")
+                && !l.starts_with(' ')
+                && !l.starts_with('#')
+                && !l.starts_with("typedef")
+            {
+                let name = name.trim_start_matches('*');
+                assert!(name.starts_with("glcol_"), "unprefixed function {name}");
+                assert!(lines[i - 1].starts_with("//"), "{name} has no doc comment");
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn regenerate() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("include/glcollide.h");
+    std::fs::write(path, generate()).unwrap();
+}
