@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Every test: Rust unit and integration tests, then the C programs, then each check in
+# scripts/test.d/ (in name order). Installs what it needs first.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+extra=()
+for f in scripts/test.d/*.deps; do [ -e "$f" ] && extra+=($(cat "$f")); done
+bash scripts/deps.sh "${extra[@]}"
+echo "== cargo test"
+log=$(mktemp)
+if ! cargo test --release --locked --all-targets >"$log" 2>&1; then
+  grep -vE '^test .* ok$' "$log" | tail -80
+  exit 1
+fi
+grep -E '^(     Running|test result)' "$log"
+echo "== C examples"
+make -s -C examples-c
+examples-c/build/api_errors
+FRAMES=60 bash scripts/demo.sh | tail -3
+for t in scripts/test.d/*.sh; do
+  [ -e "$t" ] || continue
+  echo "== $t"
+  bash "$t"
+done
+echo "all tests passed"
