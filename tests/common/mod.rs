@@ -175,15 +175,25 @@ pub fn wave(rest: &[[f32; 3]], amp: f32, freq: f32, phase: f32) -> Vec<[f32; 3]>
         .collect()
 }
 
-/// Moves and rotates a mesh (about z by `angle`) so that its box centre lands at `to`.
+/// Moves and rotates a mesh (about y by `angle`: 0 keeps its z axis, pi/2 turns z onto x)
+/// so that its box centre lands at `to`.
 pub fn place(rest: &[[f32; 3]], to: [f32; 3], angle: f32) -> Vec<[f32; 3]> {
+    place_scaled(rest, to, angle, 1.0)
+}
+
+/// As [`place`], scaling about the box centre first.
+pub fn place_scaled(rest: &[[f32; 3]], to: [f32; 3], angle: f32, scale: f32) -> Vec<[f32; 3]> {
     let (lo, hi) = bounds(rest);
     let c = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
     let (s, co) = angle.sin_cos();
     rest.iter()
         .map(|p| {
-            let (x, y, z) = (p[0] - c[0], p[1] - c[1], p[2] - c[2]);
-            [to[0] + co * x - s * y, to[1] + s * x + co * y, to[2] + z]
+            let (x, y, z) = (
+                (p[0] - c[0]) * scale,
+                (p[1] - c[1]) * scale,
+                (p[2] - c[2]) * scale,
+            );
+            [to[0] + co * x + s * z, to[1] + y, to[2] - s * x + co * z]
         })
         .collect()
 }
