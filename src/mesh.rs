@@ -81,14 +81,9 @@ impl<'a> Positions<'a> {
         }
     }
 
-    /// Copies every vertex into `dst` (of the same length); false if any coordinate is NaN
-    /// or infinite (`dst` is then partly written).
-    pub fn copy_checked(&self, dst: &mut [[f32; 3]]) -> bool {
-        let mut finite = true;
-        let mut put = |d: &mut [f32; 3], p: [f32; 3]| {
-            finite &= p[0].is_finite() & p[1].is_finite() & p[2].is_finite();
-            *d = p;
-        };
+    /// True when every coordinate is finite (one streaming pass).
+    pub fn all_finite(&self) -> bool {
+        let ok = |c: f32| (c.to_bits() & 0x7f80_0000) != 0x7f80_0000;
         match self.0 {
             Src::Bytes {
                 bytes,
@@ -96,22 +91,35 @@ impl<'a> Positions<'a> {
                 count,
             } => {
                 if stride == 12 {
-                    for (d, b) in dst.iter_mut().zip(bytes[..count * 12].chunks_exact(12)) {
-                        put(d, read3(b));
-                    }
+                    bytes[..count * 12].chunks_exact(4).fold(true, |a, b| {
+                        a & ok(f32::from_ne_bytes([b[0], b[1], b[2], b[3]]))
+                    })
                 } else {
-                    for (i, d) in dst.iter_mut().enumerate() {
-                        put(d, read3(&bytes[i * stride..i * stride + 12]));
-                    }
+                    (0..count).fold(true, |a, i| {
+                        let p = read3(&bytes[i * stride..i * stride + 12]);
+                        a & ok(p[0]) & ok(p[1]) & ok(p[2])
+                    })
+                }
+            }
+            Src::Points(p) => p.as_flattened().iter().fold(true, |a, &c| a & ok(c)),
+        }
+    }
+
+    /// `dst[j] = vertex ids[j]` for every j.
+    pub fn gather(&self, ids: &[u32], dst: &mut [[f32; 3]]) {
+        match self.0 {
+            Src::Bytes { bytes, stride, .. } => {
+                for (d, &v) in dst.iter_mut().zip(ids) {
+                    let o = v as usize * stride;
+                    *d = read3(&bytes[o..o + 12]);
                 }
             }
             Src::Points(p) => {
-                for (d, &s) in dst.iter_mut().zip(p) {
-                    put(d, s);
+                for (d, &v) in dst.iter_mut().zip(ids) {
+                    *d = p[v as usize];
                 }
             }
         }
-        finite
     }
 
     /// Index of the first vertex with a NaN or infinite coordinate.
@@ -127,14 +135,21 @@ fn read3(b: &[u8]) -> [f32; 3] {
 }
 
 /// A mesh as the scene holds it.
+///
+/// Vertices are stored leaf by leaf in "slots" (see [`crate::bvh`]): the polygons index
+/// slots, and a caller's vertex used by several leaves has one slot in each.
 #[derive(Clone, Debug)]
 pub struct Mesh {
-    pub(crate) positions: Vec<[f32; 3]>,
-    /// Second buffer for a full update: filled and checked, then swapped in.
-    staging: Vec<[f32; 3]>,
+    /// Positions of the slots, leaf after leaf.
+    pub(crate) slots: Vec<[f32; 3]>,
+    /// Slot -> the caller's vertex index.
+    pub(crate) slot_vertex: Vec<u32>,
+    /// The caller's vertex -> its slots: `vertex_slots[vertex_slot_start[v]..vertex_slot_start[v + 1]]`.
+    vertex_slot_start: Vec<u32>,
+    vertex_slots: Vec<u32>,
     /// Vertices per polygon: 3 or 4.
     pub(crate) k: usize,
-    /// Polygons in leaf order, `k` vertex indices each.
+    /// Polygons in leaf order, `k` slot indices each.
     pub(crate) polys: Vec<u32>,
     /// Leaf-order position -> the caller's polygon index.
     pub(crate) poly_ids: Vec<u32>,
@@ -170,8 +185,12 @@ impl Mesh {
             ));
         }
         let n_polys = indices.len() / k;
-        if n_polys > u32::MAX as usize - 1 || positions.len() > u32::MAX as usize {
-            return Err(Error::invalid("more than 2^32 - 2 polygons or vertices"));
+        let nv = positions.len();
+        // Slots are u32 and may outnumber vertices by the polygon count at worst.
+        if indices.len() > u32::MAX as usize - 1 || nv > u32::MAX as usize - 1 {
+            return Err(Error::invalid(
+                "more than 2^32 - 2 vertices or polygon corners",
+            ));
         }
         if let Some(v) = positions.first_non_finite() {
             return Err(Error::new(
@@ -179,18 +198,17 @@ impl Mesh {
                 format!("positions: vertex {v} has a NaN or infinite coordinate"),
             ));
         }
-        if let Some(i) = indices.iter().position(|&i| i as usize >= positions.len()) {
+        if let Some(i) = indices.iter().position(|&i| i as usize >= nv) {
             return Err(Error::new(
                 ErrorKind::IndexOutOfRange,
                 format!(
-                    "indices: polygon {} names vertex {}, but vertex_count is {}",
+                    "indices: polygon {} names vertex {}, but vertex_count is {nv}",
                     i / k,
-                    indices[i],
-                    positions.len()
+                    indices[i]
                 ),
             ));
         }
-        let pos: Vec<[f32; 3]> = (0..positions.len()).map(|i| positions.get(i)).collect();
+        let pos: Vec<[f32; 3]> = (0..nv).map(|i| positions.get(i)).collect();
         let boxes: Vec<Aabb> = indices
             .chunks_exact(k)
             .map(|p| {
@@ -205,25 +223,75 @@ impl Mesh {
             max_per_leaf
         };
         let (order, leaf_polys) = partition(&boxes, max);
+
+        // Slots: each leaf's distinct vertices, ascending, one run per leaf.
+        let leaves = leaf_polys.len() - 1;
+        let mut slot_vertex: Vec<u32> = Vec::with_capacity(nv + nv / 4);
+        let mut leaf_slots = Vec::with_capacity(leaves + 1);
+        leaf_slots.push(0u32);
         let mut polys = Vec::with_capacity(indices.len());
-        for &p in &order {
-            polys.extend_from_slice(&indices[p as usize * k..(p as usize + 1) * k]);
+        let mut slot_of = vec![0u32; nv];
+        let mut tmp = Vec::new();
+        for l in 0..leaves {
+            let ps = &order[leaf_polys[l] as usize..leaf_polys[l + 1] as usize];
+            tmp.clear();
+            for &p in ps {
+                tmp.extend_from_slice(&indices[p as usize * k..(p as usize + 1) * k]);
+            }
+            tmp.sort_unstable();
+            tmp.dedup();
+            for &v in &tmp {
+                slot_of[v as usize] = slot_vertex.len() as u32;
+                slot_vertex.push(v);
+            }
+            for &p in ps {
+                polys.extend(
+                    indices[p as usize * k..(p as usize + 1) * k]
+                        .iter()
+                        .map(|&v| slot_of[v as usize]),
+                );
+            }
+            leaf_slots.push(slot_vertex.len() as u32);
         }
-        let leaves = LeafBoxes::new(leaf_polys, &polys, k, &pos);
+        // The inverse: each vertex's slots.
+        let mut vertex_slot_start = vec![0u32; nv + 1];
+        for &v in &slot_vertex {
+            vertex_slot_start[v as usize + 1] += 1;
+        }
+        for v in 0..nv {
+            vertex_slot_start[v + 1] += vertex_slot_start[v];
+        }
+        let mut fill = vertex_slot_start.clone();
+        let mut vertex_slots = vec![0u32; slot_vertex.len()];
+        for (s, &v) in slot_vertex.iter().enumerate() {
+            vertex_slots[fill[v as usize] as usize] = s as u32;
+            fill[v as usize] += 1;
+        }
+        let slots: Vec<[f32; 3]> = slot_vertex.iter().map(|&v| pos[v as usize]).collect();
+        let mut lb = LeafBoxes {
+            leaf_polys,
+            leaf_slots,
+            boxes: vec![Aabb::EMPTY; leaves],
+            root: Aabb::EMPTY,
+        };
+        lb.refit(&slots);
         Ok(Mesh {
-            staging: Vec::new(),
-            positions: pos,
+            slots,
+            slot_vertex,
+            vertex_slot_start,
+            vertex_slots,
             k,
             polys,
             poly_ids: order,
-            leaves,
+            leaves: lb,
             enabled: true,
             generation: 0,
         })
     }
 
+    /// The caller's vertex count.
     pub fn vertex_count(&self) -> usize {
-        self.positions.len()
+        self.vertex_slot_start.len() - 1
     }
 
     pub fn polygon_count(&self) -> usize {
@@ -246,14 +314,37 @@ impl Mesh {
         self.leaves.root
     }
 
-    pub fn positions(&self) -> &[[f32; 3]] {
-        &self.positions
+    /// Slot positions, leaf after leaf (what the polygons index).
+    pub fn slot_positions(&self) -> &[[f32; 3]] {
+        &self.slots
     }
 
-    /// Replaces vertices `first..first + src.len()` and refits. Rejected whole (nothing
-    /// changes) when the range runs past the end or a coordinate is not finite.
+    /// Slot -> the caller's vertex index.
+    pub fn slot_vertices(&self) -> &[u32] {
+        &self.slot_vertex
+    }
+
+    /// Leaf-ordered polygons, `vertices_per_polygon` slot indices each.
+    pub fn polygon_slots(&self) -> &[u32] {
+        &self.polys
+    }
+
+    /// Leaf-ordered polygon -> the caller's polygon index.
+    pub fn polygon_ids(&self) -> &[u32] {
+        &self.poly_ids
+    }
+
+    /// The caller's vertex `v` as stored (None for a vertex no polygon uses).
+    pub fn vertex_position(&self, v: usize) -> Option<[f32; 3]> {
+        let s = *self.vertex_slot_start.get(v)? as usize;
+        (s < *self.vertex_slot_start.get(v + 1)? as usize)
+            .then(|| self.slots[self.vertex_slots[s] as usize])
+    }
+
+    /// Replaces the caller's vertices `first..first + src.len()` and refits. Rejected whole
+    /// (nothing changes) when the range runs past the end or a coordinate is not finite.
     pub fn update_positions(&mut self, first: usize, src: Positions<'_>) -> Result<()> {
-        let n = self.positions.len();
+        let n = self.vertex_count();
         let end = first
             .checked_add(src.len())
             .filter(|&e| e <= n)
@@ -263,40 +354,43 @@ impl Mesh {
                     src.len()
                 ))
             })?;
+        let non_finite = |v: usize| {
+            Error::new(
+                ErrorKind::NonFinite,
+                format!("positions: vertex {v} has a NaN or infinite coordinate"),
+            )
+        };
         if first == 0 && end == n {
-            // Full update: copy into the staging buffer while checking, swap on success.
-            self.staging.resize(n, [0.0; 3]);
-            if !src.copy_checked(&mut self.staging) {
-                let v = src.first_non_finite().unwrap_or(0);
-                return Err(Error::new(
-                    ErrorKind::NonFinite,
-                    format!("positions: vertex {v} has a NaN or infinite coordinate"),
-                ));
+            // Full update: check, then gather straight into the slots.
+            if !src.all_finite() {
+                return Err(non_finite(src.first_non_finite().unwrap_or(0)));
             }
-            std::mem::swap(&mut self.positions, &mut self.staging);
+            src.gather(&self.slot_vertex, &mut self.slots);
         } else {
-            if let Some(v) = src.first_non_finite() {
-                return Err(Error::new(
-                    ErrorKind::NonFinite,
-                    format!(
-                        "positions: vertex {} has a NaN or infinite coordinate",
-                        first + v
-                    ),
-                ));
+            if !src.all_finite() {
+                return Err(non_finite(first + src.first_non_finite().unwrap_or(0)));
             }
-            src.copy_checked(&mut self.positions[first..end]);
+            for i in 0..src.len() {
+                let p = src.get(i);
+                let v = first + i;
+                for &s in &self.vertex_slots
+                    [self.vertex_slot_start[v] as usize..self.vertex_slot_start[v + 1] as usize]
+                {
+                    self.slots[s as usize] = p;
+                }
+            }
         }
-        self.leaves.refit(&self.positions);
+        self.leaves.refit(&self.slots);
         self.generation += 1;
         Ok(())
     }
 
     /// Refits the leaf boxes to the current positions (what an update does after copying).
     pub fn refit(&mut self) {
-        self.leaves.refit(&self.positions);
+        self.leaves.refit(&self.slots);
     }
 
-    /// Vertex ids of leaf-ordered polygon `p`.
+    /// Slot indices of leaf-ordered polygon `p`.
     #[inline]
     pub fn poly(&self, p: usize) -> &[u32] {
         &self.polys[p * self.k..(p + 1) * self.k]
@@ -307,7 +401,7 @@ impl Mesh {
     pub fn poly_box(&self, p: usize) -> Aabb {
         let mut b = Aabb::EMPTY;
         for &v in self.poly(p) {
-            b.grow(&self.positions[v as usize]);
+            b.grow(&self.slots[v as usize]);
         }
         b
     }
@@ -317,7 +411,7 @@ impl Mesh {
     #[inline]
     pub fn triangles(&self, p: usize, out: &mut [[P3; 3]; 2]) -> usize {
         let v = self.poly(p);
-        let w = |i: usize| widen(&self.positions[v[i] as usize]);
+        let w = |i: usize| widen(&self.slots[v[i] as usize]);
         out[0] = [w(0), w(1), w(2)];
         if self.k == 4 {
             out[1] = [w(0), w(2), w(3)];
@@ -360,7 +454,7 @@ mod tests {
     fn build_and_refit_keep_boxes_fitted() {
         let (v, t) = grid(40);
         let mut m = Mesh::new(Positions::from_points(&v), &t, 3, 64).unwrap();
-        m.leaves.assert_well_formed(&m.polys, 3, &m.positions);
+        m.leaves.assert_well_formed(&m.polys, 3, &m.slots);
         let mut ids = m.poly_ids.clone();
         ids.sort_unstable();
         assert_eq!(ids, (0..t.len() as u32 / 3).collect::<Vec<_>>());
@@ -370,20 +464,21 @@ mod tests {
             .collect();
         m.update_positions(0, Positions::from_points(&moved))
             .unwrap();
-        m.leaves.assert_well_formed(&m.polys, 3, &m.positions);
+        m.leaves.assert_well_formed(&m.polys, 3, &m.slots);
         // A range update.
         m.update_positions(10, Positions::from_points(&v[10..100]))
             .unwrap();
-        assert_eq!(m.positions[10], v[10]);
-        assert_eq!(m.positions[100], moved[100]);
-        m.leaves.assert_well_formed(&m.polys, 3, &m.positions);
+        assert_eq!(m.vertex_position(10), Some(v[10]));
+        assert_eq!(m.vertex_position(100), Some(moved[100]));
+        assert_eq!(m.vertex_position(99), Some(v[99]));
+        m.leaves.assert_well_formed(&m.polys, 3, &m.slots);
     }
 
     #[test]
     fn rejected_updates_change_nothing() {
         let (v, t) = grid(8);
         let mut m = Mesh::new(Positions::from_points(&v), &t, 3, 16).unwrap();
-        let before = (m.positions.clone(), m.leaves.boxes.clone());
+        let before = (m.slots.clone(), m.leaves.boxes.clone());
         let mut bad = v.clone();
         bad[17][1] = f32::NAN;
         let e = m
@@ -400,7 +495,28 @@ mod tests {
             .update_positions(v.len() - 2, Positions::from_points(&v[..3]))
             .unwrap_err();
         assert_eq!(e.kind, ErrorKind::InvalidArgument);
-        assert_eq!(before, (m.positions.clone(), m.leaves.boxes.clone()));
+        assert_eq!(before, (m.slots.clone(), m.leaves.boxes.clone()));
+    }
+
+    #[test]
+    fn unused_vertices_are_checked_too() {
+        let (mut v, t) = grid(4);
+        v.push([9.0, 9.0, 9.0]); // no polygon uses it
+        let mut m = Mesh::new(Positions::from_points(&v), &t, 3, 8).unwrap();
+        assert_eq!(m.vertex_count(), v.len());
+        assert_eq!(m.vertex_position(v.len() - 1), None);
+        let mut bad = v.clone();
+        *bad.last_mut().unwrap() = [f32::INFINITY, 0.0, 0.0];
+        let e = m
+            .update_positions(0, Positions::from_points(&bad))
+            .unwrap_err();
+        assert_eq!(e.kind, ErrorKind::NonFinite);
+        assert!(
+            e.message.contains(&format!("vertex {}", v.len() - 1)),
+            "{}",
+            e.message
+        );
+        m.update_positions(0, Positions::from_points(&v)).unwrap();
     }
 
     #[test]

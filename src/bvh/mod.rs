@@ -1,9 +1,10 @@
 //! The leaf-only AABB structure of paper section 2.1: a root box and leaf boxes of at most N
 //! polygons each, no internal nodes. Each polygon lies in exactly one leaf.
 //!
-//! Layout for the per-frame refit (section 2.4): each leaf keeps the sorted list of distinct
-//! vertices its polygons use, all leaves' lists in one array, so a refit is one linear pass
-//! over that array with a gather of positions: no tree walk, no allocation.
+//! Layout for the per-frame refit (section 2.4): the mesh stores its vertices leaf by leaf
+//! ("slots": a vertex shared by several leaves has a slot in each), so a leaf's vertices are
+//! one contiguous run and a refit is a linear, vectorised min/max over the whole array: no
+//! tree walk, no gather, no allocation.
 
 mod build;
 mod refit;
@@ -12,16 +13,15 @@ pub use build::{partition, rule_of_thumb};
 
 use crate::geom::Aabb;
 
-/// Leaf boxes of one mesh. Leaf `l` holds the polygons `leaf_polys[l]..leaf_polys[l + 1]` of
-/// the mesh's leaf-ordered polygon array.
+/// Leaf boxes of one mesh. Leaf `l` holds the polygons `leaf_polys[l]..leaf_polys[l + 1]`
+/// of the mesh's leaf-ordered polygon array, whose vertices are the slots
+/// `leaf_slots[l]..leaf_slots[l + 1]` of the mesh's slot array.
 #[derive(Clone, Debug, Default)]
 pub struct LeafBoxes {
     /// `leaves + 1` offsets into the leaf-ordered polygons.
     pub leaf_polys: Vec<u32>,
-    /// `leaves + 1` offsets into `verts`.
-    pub leaf_verts: Vec<u32>,
-    /// Distinct vertex ids of each leaf, leaf after leaf, ascending within a leaf.
-    pub verts: Vec<u32>,
+    /// `leaves + 1` offsets into the slot array.
+    pub leaf_slots: Vec<u32>,
     /// One box per leaf, refitted by [`LeafBoxes::refit`].
     pub boxes: Vec<Aabb>,
     /// The union of the leaf boxes.
@@ -29,40 +29,6 @@ pub struct LeafBoxes {
 }
 
 impl LeafBoxes {
-    /// Builds the per-leaf vertex lists for leaf-ordered polygons (`k` indices each) cut at
-    /// `leaf_polys`, and fits the boxes around `positions`.
-    pub fn new(leaf_polys: Vec<u32>, polys: &[u32], k: usize, positions: &[[f32; 3]]) -> LeafBoxes {
-        let leaves = leaf_polys.len() - 1;
-        let mut leaf_verts = Vec::with_capacity(leaves + 1);
-        let mut verts = Vec::new();
-        leaf_verts.push(0);
-        for l in 0..leaves {
-            let start = verts.len();
-            let (a, b) = (leaf_polys[l] as usize, leaf_polys[l + 1] as usize);
-            verts.extend_from_slice(&polys[a * k..b * k]);
-            verts[start..].sort_unstable();
-            let mut w = start;
-            for r in start..verts.len() {
-                if r == start || verts[r] != verts[w - 1] {
-                    verts[w] = verts[r];
-                    w += 1;
-                }
-            }
-            verts.truncate(w);
-            leaf_verts.push(verts.len() as u32);
-        }
-        verts.shrink_to_fit();
-        let mut lb = LeafBoxes {
-            leaf_polys,
-            leaf_verts,
-            verts,
-            boxes: vec![Aabb::EMPTY; leaves],
-            root: Aabb::EMPTY,
-        };
-        lb.refit(positions);
-        lb
-    }
-
     /// Number of leaves.
     pub fn len(&self) -> usize {
         self.boxes.len()
@@ -78,17 +44,30 @@ impl LeafBoxes {
         self.leaf_polys[l] as usize..self.leaf_polys[l + 1] as usize
     }
 
-    /// Checks the structure's invariants against the polygons it was built for (tests).
-    pub fn assert_well_formed(&self, polys: &[u32], k: usize, positions: &[[f32; 3]]) {
+    /// Slot range of leaf `l`.
+    #[inline]
+    pub fn slots(&self, l: usize) -> std::ops::Range<usize> {
+        self.leaf_slots[l] as usize..self.leaf_slots[l + 1] as usize
+    }
+
+    /// Checks the structure's invariants against the polygons it was built for (tests):
+    /// every leaf non-empty, its polygons index only its own slots, its box fitted to them.
+    pub fn assert_well_formed(&self, polys: &[u32], k: usize, slots: &[[f32; 3]]) {
         assert_eq!(self.leaf_polys.first(), Some(&0));
         assert_eq!(*self.leaf_polys.last().unwrap() as usize * k, polys.len());
+        assert_eq!(*self.leaf_slots.last().unwrap() as usize, slots.len());
         let mut root = Aabb::EMPTY;
         for l in 0..self.len() {
             let r = self.polys(l);
             assert!(!r.is_empty(), "empty leaf {l}");
+            let s = self.slots(l);
             let mut b = Aabb::EMPTY;
             for &v in &polys[r.start * k..r.end * k] {
-                b.grow(&positions[v as usize]);
+                assert!(
+                    s.contains(&(v as usize)),
+                    "leaf {l} uses slot {v} outside {s:?}"
+                );
+                b.grow(&slots[v as usize]);
             }
             assert_eq!(b, self.boxes[l], "leaf {l} is not fitted to its polygons");
             root.merge(&b);
