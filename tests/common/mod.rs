@@ -1,6 +1,7 @@
 //! Shared by the integration tests: meshes, deformations and the brute-force answer.
 #![allow(dead_code)]
 
+pub mod backends;
 pub mod oracle;
 
 use glcollide::obj::ObjMesh;
