@@ -254,11 +254,25 @@ pub unsafe extern "C" fn glcol_mesh_create(
                 "vertices_per_polygon is {k}; it must be 3 or 4"
             )));
         }
-        let pos = positions(d.positions, d.vertex_count, d.position_stride)?;
+        non_null(d.positions, "positions")?;
         non_null(d.indices, "indices")?;
         if d.polygon_count == 0 {
             return Err(invalid("polygon_count is 0"));
         }
+        // Counts the library cannot number are refused before any array is touched.
+        if d.vertex_count > u32::MAX as usize {
+            return Err(invalid(format!(
+                "vertex_count {} is more than 2^32 - 1",
+                d.vertex_count
+            )));
+        }
+        if d.polygon_count > u32::MAX as usize - 1 {
+            return Err(invalid(format!(
+                "polygon_count {} is more than 2^32 - 2",
+                d.polygon_count
+            )));
+        }
+        let pos = positions(d.positions, d.vertex_count, d.position_stride)?;
         if (d.indices as usize) % std::mem::align_of::<u32>() != 0 {
             return Err(invalid("indices is not 4-byte aligned"));
         }
@@ -295,7 +309,14 @@ pub unsafe extern "C" fn glcol_mesh_update_positions(
 ) -> GlcolStatus {
     guard(|| {
         let s = scene_mut(scene)?;
-        s.scene.mesh(mesh)?;
+        let n = s.scene.mesh(mesh)?.vertex_count();
+        non_null(positions, "positions")?;
+        // The range first, so that no count larger than the mesh reaches the array.
+        if vertex_count != 0 && first_vertex.checked_add(vertex_count).is_none_or(|e| e > n) {
+            return Err(invalid(format!(
+                "first_vertex {first_vertex} + vertex_count {vertex_count} runs past the mesh's {n} vertices"
+            )));
+        }
         let pos = self::positions(positions, vertex_count, position_stride)?;
         s.scene.update_positions(mesh, first_vertex, pos)?;
         Ok(())
