@@ -24,6 +24,8 @@ pub struct QueryStats {
     pub tests: [usize; 5],
     /// Hits returned, steps 1 to 5.
     pub hits: [usize; 5],
+    /// Time the backend took for each step, nanoseconds.
+    pub nanos: [u64; 5],
 }
 
 /// Buffers reused from query to query.
@@ -41,6 +43,11 @@ pub struct Workspace {
     ref_polys: Vec<(u32, u32)>,
     other_polys: Vec<(u32, u32)>,
     by_ref_leaf: Vec<u32>,
+    /// Step 3 and 4 hits bucketed by pair (counting sort): offsets and polygons.
+    ref_start: Vec<u32>,
+    ref_sorted: Vec<u32>,
+    other_start: Vec<u32>,
+    other_sorted: Vec<u32>,
     pub stats: QueryStats,
 }
 
@@ -49,7 +56,9 @@ impl Workspace {
         self.hits.clear();
         self.stats.tests[step] = self.batch.tests();
         if !self.batch.groups.is_empty() {
+            let t = std::time::Instant::now();
             sel.select(q, &self.batch, &mut self.hits)?;
+            self.stats.nanos[step] = t.elapsed().as_nanos() as u64;
         }
         self.stats.hits[step] = self.hits.len();
         Ok(())
@@ -209,39 +218,38 @@ pub fn run(
 
     // Step 5: for each leaf pair, every reference polygon found in step 3 becomes a viewing
     // volume (section 2.3) and the other polygons found in step 4 are drawn into it.
-    ws.ref_polys.sort_unstable();
-    ws.other_polys.sort_unstable();
+    let n_pairs = ws.pairs.len();
+    bucket(
+        &ws.ref_polys,
+        n_pairs,
+        &mut ws.ref_start,
+        &mut ws.ref_sorted,
+    );
+    bucket(
+        &ws.other_polys,
+        n_pairs,
+        &mut ws.other_start,
+        &mut ws.other_sorted,
+    );
     ws.batch.reset(Step::PolygonsInPolygons);
-    let (mut a, mut b) = (0, 0);
-    while a < ws.ref_polys.len() && b < ws.other_polys.len() {
-        let (pa, pb) = (ws.ref_polys[a].0, ws.other_polys[b].0);
-        if pa < pb {
-            a += 1;
-            continue;
-        }
-        if pb < pa {
-            b += 1;
+    for pair in 0..n_pairs {
+        let refs = &ws.ref_sorted[ws.ref_start[pair] as usize..ws.ref_start[pair + 1] as usize];
+        let others =
+            &ws.other_sorted[ws.other_start[pair] as usize..ws.other_start[pair + 1] as usize];
+        if refs.is_empty() || others.is_empty() {
             continue;
         }
         let (v0, c0) = (
             ws.batch.volumes.len() as u32,
             ws.batch.candidates.len() as u32,
         );
-        while a < ws.ref_polys.len() && ws.ref_polys[a].0 == pa {
-            ws.batch.volumes.push(Prim {
-                mesh: 0,
-                index: ws.ref_polys[a].1,
-            });
-            a += 1;
-        }
-        let mesh = ws.pairs[pa as usize].0.mesh;
-        while b < ws.other_polys.len() && ws.other_polys[b].0 == pa {
-            ws.batch.candidates.push(Prim {
-                mesh,
-                index: ws.other_polys[b].1,
-            });
-            b += 1;
-        }
+        let mesh = ws.pairs[pair].0.mesh;
+        ws.batch
+            .volumes
+            .extend(refs.iter().map(|&index| Prim { mesh: 0, index }));
+        ws.batch
+            .candidates
+            .extend(others.iter().map(|&index| Prim { mesh, index }));
         ws.batch.groups.push(Group {
             volumes: v0..ws.batch.volumes.len() as u32,
             candidates: c0..ws.batch.candidates.len() as u32,
@@ -261,4 +269,43 @@ pub fn run(
     out.sort_unstable();
     out.dedup();
     Ok(())
+}
+
+/// Counting sort of (key, value) items with keys below `n`: `start` gets `n + 1` offsets
+/// and `sorted` the values, key after key, in their original order within a key.
+fn bucket(items: &[(u32, u32)], n: usize, start: &mut Vec<u32>, sorted: &mut Vec<u32>) {
+    start.clear();
+    start.resize(n + 1, 0);
+    for &(k, _) in items {
+        start[k as usize + 1] += 1;
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    sorted.clear();
+    sorted.resize(items.len(), 0);
+    // Fill through a moving cursor per key (start[k] shifted one place, then restored).
+    for &(k, v) in items {
+        let at = &mut start[k as usize];
+        sorted[*at as usize] = v;
+        *at += 1;
+    }
+    for i in (1..=n).rev() {
+        start[i] = start[i - 1];
+    }
+    start[0] = 0;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::bucket;
+
+    #[test]
+    fn bucket_groups_by_key_stably() {
+        let items = [(2, 10), (0, 11), (2, 12), (3, 13), (0, 14)];
+        let (mut start, mut sorted) = (Vec::new(), Vec::new());
+        bucket(&items, 5, &mut start, &mut sorted);
+        assert_eq!(start, vec![0, 2, 2, 4, 5, 5]);
+        assert_eq!(sorted, vec![11, 14, 10, 12, 13]);
+    }
 }

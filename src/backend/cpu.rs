@@ -7,23 +7,108 @@
 //! - `h > 0`: the candidate survives clipping against the reference polygon's volume
 //!   ([`Cell`]) in `f64` in the volume's own frame, or intersects the polygon exactly (so
 //!   rounding in the clipper can never lose a true intersection).
+//!
+//! Inside a group, volumes and candidates are first paired by their boxes (grown by `h`):
+//! all pairs for small groups, a sort-and-sweep along the widest axis for large ones, so a
+//! leaf pair in deep contact costs about its box overlaps rather than the product of its
+//! polygon counts.
 
-use super::{Backend, Batch, Hit, Prim, QueryMeshes, Selector, Step};
+use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step};
 use crate::error::Result;
-use crate::geom::tritri::triangles_intersect;
+use crate::geom::tritri::{triangles_intersect, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::{Aabb, P3};
 
-/// The CPU backend. Holds scratch space only.
+/// Groups with at most this many volume-candidate tests are paired by brute force.
+const SWEEP_ABOVE: usize = 96;
+
+/// Polygon boxes of one mesh, computed on first use and valid while the mesh's positions
+/// do not change (its generation): a polygon is boxed once per frame, however many steps
+/// and leaf pairs ask about it.
+#[derive(Default)]
+struct BoxCache {
+    id: u32,
+    generation: u64,
+    /// `stamp[p] == current` marks `boxes[p]` valid.
+    stamp: Vec<u32>,
+    current: u32,
+    boxes: Vec<Aabb>,
+}
+
+impl BoxCache {
+    fn revalidate(&mut self, id: u32, m: &crate::mesh::Mesh) {
+        let n = m.polygon_count();
+        if self.id != id || self.boxes.len() != n || self.current == u32::MAX {
+            self.stamp.clear();
+            self.stamp.resize(n, 0);
+            self.boxes.resize(n, Aabb::EMPTY);
+            self.current = 1;
+        } else if self.generation != m.generation {
+            self.current += 1;
+        }
+        self.id = id;
+        self.generation = m.generation;
+    }
+
+    #[inline]
+    fn get(&mut self, m: &crate::mesh::Mesh, p: usize) -> Aabb {
+        if self.stamp[p] != self.current {
+            self.boxes[p] = m.poly_box(p);
+            self.stamp[p] = self.current;
+        }
+        self.boxes[p]
+    }
+}
+
+/// The CPU backend. Holds scratch space and the polygon-box caches.
 #[derive(Default)]
 pub struct CpuSelector {
-    boxes: Vec<Aabb>,
-    tris: Vec<([[P3; 3]; 2], usize)>,
+    caches: Vec<BoxCache>,
+    /// Query mesh slot -> index in `caches`.
+    slot_cache: Vec<usize>,
+    vboxes: Vec<Aabb>,
+    cboxes: Vec<Aabb>,
+    pairs: Vec<(u32, u32)>,
+    vwide: Vec<Wide>,
+    cwide: Vec<Wide>,
+    cells: Vec<Option<[Cell; 2]>>,
+}
+
+/// A polygon as one or two `f64` triangles.
+#[derive(Clone, Copy)]
+struct Polygon {
+    tris: [[P3; 3]; 2],
+    n: usize,
 }
 
 impl CpuSelector {
     pub fn new() -> CpuSelector {
         CpuSelector::default()
+    }
+
+    /// Maps the query's meshes to their caches (made or revalidated), dropping the caches
+    /// of meshes no longer in the query.
+    fn sync_caches(&mut self, q: &QueryMeshes<'_>) {
+        self.caches
+            .retain(|c| q.meshes.iter().any(|(id, _)| *id == c.id));
+        self.slot_cache.clear();
+        for &(id, m) in &q.meshes {
+            let i = match self.caches.iter().position(|c| c.id == id) {
+                Some(i) => i,
+                None => {
+                    self.caches.push(BoxCache::default());
+                    self.caches.len() - 1
+                }
+            };
+            self.caches[i].revalidate(id, m);
+            self.slot_cache.push(i);
+        }
+    }
+}
+
+impl std::fmt::Debug for CpuSelector {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("CpuSelector")
     }
 }
 
@@ -34,44 +119,86 @@ impl Selector for CpuSelector {
 
     fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
         let h = q.half_depth;
+        if batch.step != Step::BoxesInBoxes {
+            self.sync_caches(q);
+        }
         for g in &batch.groups {
+            let vols = &batch.volumes[g.volumes.start as usize..g.volumes.end as usize];
             let cands = &batch.candidates[g.candidates.start as usize..g.candidates.end as usize];
-            // Candidate boxes once per group.
-            self.boxes.clear();
+            self.vboxes.clear();
+            self.cboxes.clear();
             match batch.step {
-                Step::BoxesInBoxes => self.boxes.extend(cands.iter().map(|&c| q.boxed(c))),
-                _ => self
-                    .boxes
-                    .extend(cands.iter().map(|&c| q.mesh(c).poly_box(c.index as usize))),
-            }
-            if batch.step == Step::PolygonsInPolygons {
-                self.tris.clear();
-                self.tris.extend(cands.iter().map(|&c| {
-                    let mut t = [[[0.0; 3]; 3]; 2];
-                    let n = q.mesh(c).triangles(c.index as usize, &mut t);
-                    (t, n)
-                }));
-            }
-            for vi in g.volumes.clone() {
-                let v = batch.volumes[vi as usize];
-                let hit = |ci: usize| Hit {
-                    volume: vi,
-                    candidate: g.candidates.start + ci as u32,
-                };
-                match batch.step {
-                    Step::BoxesInBoxes | Step::PolygonsInBoxes => {
-                        let vb = q.boxed(v);
-                        hits.extend(
-                            self.boxes
-                                .iter()
-                                .enumerate()
-                                .filter(|(_, b)| vb.overlaps(b, h))
-                                .map(|(i, _)| hit(i)),
-                        );
+                Step::BoxesInBoxes => {
+                    self.vboxes.extend(vols.iter().map(|&v| q.boxed(v)));
+                    self.cboxes.extend(cands.iter().map(|&c| q.boxed(c)));
+                }
+                Step::PolygonsInBoxes => {
+                    self.vboxes.extend(vols.iter().map(|&v| q.boxed(v)));
+                    for &c in cands {
+                        let cache = &mut self.caches[self.slot_cache[c.mesh as usize]];
+                        self.cboxes.push(cache.get(q.mesh(c), c.index as usize));
                     }
-                    Step::PolygonsInPolygons => {
-                        polygon_volume(q, v, h, &self.boxes, &self.tris, |i| hits.push(hit(i)))
+                }
+                Step::PolygonsInPolygons => {
+                    for &v in vols {
+                        let cache = &mut self.caches[self.slot_cache[v.mesh as usize]];
+                        self.vboxes.push(cache.get(q.mesh(v), v.index as usize));
                     }
+                    for &c in cands {
+                        let cache = &mut self.caches[self.slot_cache[c.mesh as usize]];
+                        self.cboxes.push(cache.get(q.mesh(c), c.index as usize));
+                    }
+                }
+            }
+            self.pairs.clear();
+            box_pairs(
+                &self.vboxes,
+                &self.cboxes,
+                h,
+                &mut self.vwide,
+                &mut self.cwide,
+                &mut self.pairs,
+            );
+            let hit = |(v, c): (u32, u32)| Hit {
+                volume: g.volumes.start + v,
+                candidate: g.candidates.start + c,
+            };
+            if batch.step != Step::PolygonsInPolygons {
+                hits.extend(self.pairs.iter().map(|&p| hit(p)));
+                continue;
+            }
+            // Step 5: the narrow test on the box-overlapping pairs (pairs come grouped by
+            // volume or by candidate; polygons are widened on demand, cells built once).
+            let polygon = |p: super::Prim| {
+                let mut tris = [[[0.0; 3]; 3]; 2];
+                let n = q.mesh(p).triangles(p.index as usize, &mut tris);
+                Polygon { tris, n }
+            };
+            self.cells.clear();
+            self.cells
+                .resize(if h > 0.0 { vols.len() } else { 0 }, None);
+            for &(v, c) in &self.pairs {
+                let pv = polygon(vols[v as usize]);
+                let pc = polygon(cands[c as usize]);
+                let cells = (h > 0.0).then(|| {
+                    &*self.cells[v as usize].get_or_insert_with(|| {
+                        [
+                            Cell::of_triangle(&pv.tris[0], h),
+                            Cell::of_triangle(&pv.tris[pv.n - 1], h),
+                        ]
+                    })
+                });
+                let meets = (0..pv.n).any(|a| {
+                    (0..pc.n).any(|b| {
+                        let (ta, tb) = (&pv.tris[a], &pc.tris[b]);
+                        cells.is_some_and(|cl| cl[a].meets_triangle(tb))
+                            || (!Plane::of(ta).separates(tb)
+                                && !Plane::of(tb).separates(ta)
+                                && triangles_intersect(ta, tb))
+                    })
+                });
+                if meets {
+                    hits.push(hit((v, c)));
                 }
             }
         }
@@ -79,39 +206,151 @@ impl Selector for CpuSelector {
     }
 }
 
-/// Step 5 for one reference polygon `v` against the group's candidates.
-fn polygon_volume(
-    q: &QueryMeshes<'_>,
-    v: Prim,
+/// A box in `f64` (min xyz, max xyz) tagged with its position in the group.
+#[derive(Clone, Copy)]
+struct Wide {
+    b: [f64; 6],
+    at: u32,
+}
+
+#[inline]
+fn meets(v: &[f64; 6], c: &[f64; 6]) -> bool {
+    // Branch-free: all six comparisons, combined with `&`.
+    (c[3] >= v[0])
+        & (c[0] <= v[3])
+        & (c[4] >= v[1])
+        & (c[1] <= v[4])
+        & (c[5] >= v[2])
+        & (c[2] <= v[5])
+}
+
+/// Every (volume, candidate) pair whose boxes meet once the volume is grown by `h`, as
+/// positions in `vb` and `cb`. The grown volume is rounded in `f64`; rounding is monotone
+/// and the unmoved bounds are floats, so a pair whose plain boxes meet is never lost.
+fn box_pairs(
+    vb: &[Aabb],
+    cb: &[Aabb],
     h: f64,
-    boxes: &[Aabb],
-    tris: &[([[P3; 3]; 2], usize)],
-    mut hit: impl FnMut(usize),
+    vw: &mut Vec<Wide>,
+    cw: &mut Vec<Wide>,
+    out: &mut Vec<(u32, u32)>,
 ) {
-    let m = q.mesh(v);
-    let vb = m.poly_box(v.index as usize);
-    let mut vt = [[[0.0; 3]; 3]; 2];
-    let nv = m.triangles(v.index as usize, &mut vt);
-    let cells: Option<[Cell; 2]> = (h > 0.0).then(|| {
-        [
-            Cell::of_triangle(&vt[0], h),
-            Cell::of_triangle(&vt[nv - 1], h),
-        ]
-    });
-    for (i, (b, (ct, nc))) in boxes.iter().zip(tris).enumerate() {
-        if !vb.overlaps(b, h) {
-            continue;
+    let widen = |b: &Aabb, h: f64, at: usize| Wide {
+        b: [
+            f64::from(b.min[0]) - h,
+            f64::from(b.min[1]) - h,
+            f64::from(b.min[2]) - h,
+            f64::from(b.max[0]) + h,
+            f64::from(b.max[1]) + h,
+            f64::from(b.max[2]) + h,
+        ],
+        at: at as u32,
+    };
+    vw.clear();
+    vw.extend(vb.iter().enumerate().map(|(i, b)| widen(b, h, i)));
+    cw.clear();
+    cw.extend(cb.iter().enumerate().map(|(i, b)| widen(b, 0.0, i)));
+    if vb.len() * cb.len() <= SWEEP_ABOVE || vb.len() == 1 || cb.len() == 1 {
+        for v in vw.iter() {
+            out.extend(
+                cw.iter()
+                    .filter(|c| meets(&v.b, &c.b))
+                    .map(|c| (v.at, c.at)),
+            );
         }
-        let meets = (0..nv).any(|a| {
-            (0..*nc).any(|c| {
-                cells
-                    .as_ref()
-                    .is_some_and(|cells| cells[a].meets_triangle(&ct[c]))
-                    || triangles_intersect(&vt[a], &ct[c])
-            })
-        });
-        if meets {
-            hit(i);
+        return;
+    }
+    // Sweep along the axis where the candidates are most spread out for their size.
+    let axis = (0..3)
+        .map(|k| {
+            let (mut lo, mut hi, mut size) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
+            for c in cw.iter() {
+                lo = lo.min(c.b[k]);
+                hi = hi.max(c.b[k + 3]);
+                size += c.b[k + 3] - c.b[k];
+            }
+            (hi - lo) / (size / cw.len() as f64 + f64::MIN_POSITIVE)
+        })
+        .enumerate()
+        .fold((0, f64::NEG_INFINITY), |best, (k, r)| {
+            if r > best.1 {
+                (k, r)
+            } else {
+                best
+            }
+        })
+        .0;
+    vw.sort_unstable_by(|a, b| a.b[axis].total_cmp(&b.b[axis]));
+    cw.sort_unstable_by(|a, b| a.b[axis].total_cmp(&b.b[axis]));
+    let (mut i, mut j) = (0, 0);
+    while i < vw.len() && j < cw.len() {
+        let (v, c) = (&vw[i], &cw[j]);
+        if v.b[axis] <= c.b[axis] {
+            // v starts first: every candidate starting before v ends may meet it.
+            for ck in &cw[j..] {
+                if ck.b[axis] > v.b[axis + 3] {
+                    break;
+                }
+                if meets(&v.b, &ck.b) {
+                    out.push((v.at, ck.at));
+                }
+            }
+            i += 1;
+        } else {
+            for vk in &vw[i..] {
+                if vk.b[axis] > c.b[axis + 3] {
+                    break;
+                }
+                if meets(&vk.b, &c.b) {
+                    out.push((vk.at, c.at));
+                }
+            }
+            j += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sweep_finds_exactly_the_overlapping_pairs() {
+        let mut s = 12345u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut boxes = |n: usize, size: f32| -> Vec<Aabb> {
+            (0..n)
+                .map(|_| {
+                    let p = [rnd() * 10.0, rnd() * 10.0, rnd() * 10.0];
+                    let d = [rnd() * size, rnd() * size, rnd() * size];
+                    Aabb {
+                        min: p,
+                        max: [p[0] + d[0], p[1] + d[1], p[2] + d[2]],
+                    }
+                })
+                .collect()
+        };
+        let vb = boxes(150, 2.0);
+        let cb = boxes(170, 1.0);
+        for h in [0.0, 0.3] {
+            let mut got = Vec::new();
+            box_pairs(&vb, &cb, h, &mut Vec::new(), &mut Vec::new(), &mut got);
+            got.sort_unstable();
+            let mut want = Vec::new();
+            for (i, v) in vb.iter().enumerate() {
+                for (j, c) in cb.iter().enumerate() {
+                    if v.overlaps(c, h) {
+                        want.push((i as u32, j as u32));
+                    }
+                }
+            }
+            assert!(!want.is_empty());
+            assert_eq!(got, want, "h = {h}");
         }
     }
 }

@@ -42,6 +42,57 @@ pub fn triangles_intersect(t: &[P3; 3], u: &[P3; 3]) -> bool {
     false
 }
 
+/// A triangle's plane for a quick floating-point rejection before the exact test.
+#[derive(Clone, Copy, Debug)]
+pub struct Plane {
+    o: P3,
+    n: P3,
+    /// Per component, the sum of the magnitudes of the two products behind `n`: the scale
+    /// of its rounding error (large against `n` for a sliver).
+    perm: P3,
+}
+
+/// Relative error allowed for in [`Plane::separates`]: thousands of times the worst
+/// rounding of the few operations involved (a few units of 2^-53).
+const PLANE_SLACK: f64 = 1e-12;
+
+impl Plane {
+    pub fn of(t: &[P3; 3]) -> Plane {
+        let o = t[0];
+        let e = [t[1][0] - o[0], t[1][1] - o[1], t[1][2] - o[2]];
+        let f = [t[2][0] - o[0], t[2][1] - o[1], t[2][2] - o[2]];
+        let n = [
+            e[1] * f[2] - e[2] * f[1],
+            e[2] * f[0] - e[0] * f[2],
+            e[0] * f[1] - e[1] * f[0],
+        ];
+        let perm = [
+            (e[1] * f[2]).abs() + (e[2] * f[1]).abs(),
+            (e[2] * f[0]).abs() + (e[0] * f[2]).abs(),
+            (e[0] * f[1]).abs() + (e[1] * f[0]).abs(),
+        ];
+        Plane { o, n, perm }
+    }
+
+    /// True only when the three points are certainly all strictly on one side of the plane
+    /// (then the triangles cannot meet). False means "ask the exact test".
+    #[inline]
+    pub fn separates(&self, u: &[P3; 3]) -> bool {
+        let (mut pos, mut neg) = (true, true);
+        for p in u {
+            let w = [p[0] - self.o[0], p[1] - self.o[1], p[2] - self.o[2]];
+            let s = self.n[0] * w[0] + self.n[1] * w[1] + self.n[2] * w[2];
+            let bound = PLANE_SLACK
+                * (self.perm[0] * w[0].abs()
+                    + self.perm[1] * w[1].abs()
+                    + self.perm[2] * w[2].abs());
+            pos &= s > bound;
+            neg &= s < -bound;
+        }
+        pos || neg
+    }
+}
+
 #[inline]
 fn strictly_one_side(o: &[f64; 3]) -> bool {
     (o[0] > 0.0 && o[1] > 0.0 && o[2] > 0.0) || (o[0] < 0.0 && o[1] < 0.0 && o[2] < 0.0)
@@ -266,6 +317,29 @@ mod tests {
             &t,
             &tri([-1.0, 0.3, 0.0], [2.0, 0.3, 0.0], [2.0, 0.3, 0.0])
         ));
+    }
+
+    #[test]
+    fn plane_filter_never_rejects_a_meeting_pair() {
+        // Touching, coplanar and sliver cases: the filter must say "ask the exact test".
+        let t = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let cases = [
+            tri([0.25, 0.25, 0.0], [0.2, 0.2, 1.0], [0.3, 0.4, 1.0]),
+            tri([0.2, 0.2, 0.0], [2.0, 0.2, 0.0], [0.2, 2.0, 0.0]),
+            tri([1.0, 0.0, 0.0], [2.0, 0.0, 1.0], [2.0, 1.0, 1.0]),
+        ];
+        for u in &cases {
+            assert!(triangles_intersect(&t, u));
+            assert!(!Plane::of(&t).separates(u) && !Plane::of(u).separates(&t));
+        }
+        // A sliver of aspect 1e7 far from the origin, and a point on it.
+        let o = 1e5;
+        let s = tri([o, o, o], [o + 1.0, o, o], [o + 0.5, o + 1e-7, o]);
+        let p = [[o + 0.5, o + 0.5e-7, o]; 3];
+        assert!(triangles_intersect(&s, &p));
+        assert!(!Plane::of(&s).separates(&p));
+        // And it does reject what is clearly apart.
+        assert!(Plane::of(&t).separates(&tri([0.2, 0.2, 0.5], [0.2, 0.2, 1.0], [0.3, 0.3, 1.0])));
     }
 
     #[test]
