@@ -40,7 +40,7 @@ pub fn polygon_triangles(pos: &[[f32; 3]], idx: &[u32], k: usize, i: usize) -> V
 }
 
 /// A mesh as the tests hand it to a scene: positions, indices, vertices per polygon.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct TestMesh {
     pub pos: Vec<[f32; 3]>,
     pub idx: Vec<u32>,
