@@ -1,0 +1,299 @@
+// crosscheck: the exact reference and the judge, both built on CGAL (libcgal-dev), which
+// shares no code with glcollide, FCL or Bullet.
+//
+// * exact_pairs: a sweep over the triangles' exact double boxes (closed comparisons, so no
+//   rounding can lose a pair), then CGAL::do_intersect on the closed triangles with the
+//   Exact_predicates_inexact_constructions_kernel (filtered, exact predicates). A triangle
+//   whose corners are collinear is a segment or a point (glcollide's documented meaning),
+//   so it is tested as a CGAL Segment_3 / Point_3 instead (CGAL's Triangle_3 predicates
+//   require non-degenerate triangles).
+// * judge: for one polygon pair, exact intersection (as above), then with exact constructions
+//   (Exact_predicates_exact_constructions_kernel: GMP rationals, evaluated only when its
+//   interval filter cannot decide) the exact squared distance (min over vertex-simplex and
+//   edge-edge distances, which is the distance of two disjoint triangles) and, for pairs
+//   that meet, whether a plane separates them weakly (the 17 SAT axes of two triangles,
+//   exact dot products): then they only touch (shared vertex/edge, contact on the boundary,
+//   coplanar overlap), else they truly cross.
+#include "common.hpp"
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/intersections.h>
+#include <CGAL/squared_distance_3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace xc {
+
+const char *const class_name[NCLASS] = {"cross", "touch", "band", "apart"};
+
+void sort_unique(std::vector<Key> &v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+void Mesh::split_polygons() {
+    tri.clear();
+    tri_poly.clear();
+    for (size_t p = 0; p < npoly(); p++) {
+        const uint32_t *q = &poly[p * vpp];
+        if (vpp == 3) {
+            tri.insert(tri.end(), {q[0], q[1], q[2]});
+            tri_poly.push_back(uint32_t(p));
+        } else { // quad (v0,v1,v2,v3) -> (v0,v1,v2), (v0,v2,v3)
+            tri.insert(tri.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+            tri_poly.push_back(uint32_t(p));
+            tri_poly.push_back(uint32_t(p));
+        }
+    }
+}
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using P = K::Point_3;
+
+// A closed triangle reduced to what it is: triangle (dim 2), segment (dim 1) or point (0).
+template <class Pt> struct Simplex {
+    int dim;
+    Pt p[3];
+};
+
+Simplex<P> simplex(const double *pos, const uint32_t *t) {
+    P a(pos[3 * t[0]], pos[3 * t[0] + 1], pos[3 * t[0] + 2]);
+    P b(pos[3 * t[1]], pos[3 * t[1] + 1], pos[3 * t[1] + 2]);
+    P c(pos[3 * t[2]], pos[3 * t[2] + 1], pos[3 * t[2] + 2]);
+    if (!CGAL::collinear(a, b, c)) return {2, {a, b, c}};
+    // Collinear: the hull is the segment between the lexicographic extremes.
+    P lo = a, hi = a;
+    for (const P &x : {b, c}) {
+        if (CGAL::compare_xyz(x, lo) == CGAL::SMALLER) lo = x;
+        if (CGAL::compare_xyz(x, hi) == CGAL::LARGER) hi = x;
+    }
+    if (lo == hi) return {0, {lo, lo, lo}};
+    return {1, {lo, hi, hi}};
+}
+
+bool meet(const Simplex<P> &s, const Simplex<P> &t) {
+    using T = K::Triangle_3;
+    using S = K::Segment_3;
+    if (s.dim < t.dim) return meet(t, s);
+    switch (s.dim * 3 + t.dim) {
+    case 8: return CGAL::do_intersect(T(s.p[0], s.p[1], s.p[2]), T(t.p[0], t.p[1], t.p[2]));
+    case 7: return CGAL::do_intersect(T(s.p[0], s.p[1], s.p[2]), S(t.p[0], t.p[1]));
+    case 6: return T(s.p[0], s.p[1], s.p[2]).has_on(t.p[0]);
+    case 4: return CGAL::do_intersect(S(s.p[0], s.p[1]), S(t.p[0], t.p[1]));
+    case 3: return S(s.p[0], s.p[1]).has_on(t.p[0]);
+    default: return s.p[0] == t.p[0];
+    }
+}
+
+struct Box {
+    double lo[3], hi[3];
+    uint32_t id;
+};
+
+void boxes(const Mesh &M, const double *pos, const Box *filter, std::vector<Box> &out) {
+    out.clear();
+    for (size_t t = 0; t < M.ntri(); t++) {
+        Box b;
+        b.id = uint32_t(t);
+        for (int k = 0; k < 3; k++) {
+            double v0 = pos[3 * M.tri[3 * t] + k], v1 = pos[3 * M.tri[3 * t + 1] + k],
+                   v2 = pos[3 * M.tri[3 * t + 2] + k];
+            b.lo[k] = std::min(v0, std::min(v1, v2));
+            b.hi[k] = std::max(v0, std::max(v1, v2));
+        }
+        if (filter) {
+            bool ok = true;
+            for (int k = 0; k < 3; k++)
+                ok = ok && b.lo[k] <= filter->hi[k] && filter->lo[k] <= b.hi[k];
+            if (!ok) continue;
+        }
+        out.push_back(b);
+    }
+}
+
+Box total(const std::vector<Box> &v) {
+    Box t{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, 0};
+    for (const Box &b : v)
+        for (int k = 0; k < 3; k++) {
+            t.lo[k] = std::min(t.lo[k], b.lo[k]);
+            t.hi[k] = std::max(t.hi[k], b.hi[k]);
+        }
+    return t;
+}
+
+// ---- exact constructions: lazy exact rationals (GMP) behind interval filters ----
+using Q = CGAL::Exact_predicates_exact_constructions_kernel;
+using QP = Q::Point_3;
+using QV = Q::Vector_3;
+using QF = Q::FT;
+
+Simplex<QP> to_q(const Simplex<P> &s) {
+    Simplex<QP> r;
+    r.dim = s.dim;
+    for (int i = 0; i < 3; i++) r.p[i] = QP(s.p[i].x(), s.p[i].y(), s.p[i].z());
+    return r;
+}
+
+QF sq_point(const QP &x, const Simplex<QP> &t) {
+    if (t.dim == 2) return CGAL::squared_distance(x, Q::Triangle_3(t.p[0], t.p[1], t.p[2]));
+    if (t.dim == 1) return CGAL::squared_distance(x, Q::Segment_3(t.p[0], t.p[1]));
+    return CGAL::squared_distance(x, t.p[0]);
+}
+
+int edges(const Simplex<QP> &s, Q::Segment_3 *e) {
+    if (s.dim == 2) {
+        for (int i = 0; i < 3; i++) e[i] = Q::Segment_3(s.p[i], s.p[(i + 1) % 3]);
+        return 3;
+    }
+    if (s.dim == 1) {
+        e[0] = Q::Segment_3(s.p[0], s.p[1]);
+        return 1;
+    }
+    return 0;
+}
+
+// Exact squared distance of two disjoint simplices.
+QF sq_dist(const Simplex<QP> &s, const Simplex<QP> &t) {
+    bool first = true;
+    QF best = 0;
+    auto take = [&](const QF &d) {
+        if (first || d < best) best = d;
+        first = false;
+    };
+    for (int i = 0; i <= s.dim; i++) take(sq_point(s.p[i], t));
+    for (int i = 0; i <= t.dim; i++) take(sq_point(t.p[i], s));
+    Q::Segment_3 es[3], et[3];
+    int ns = edges(s, es), nt = edges(t, et);
+    for (int i = 0; i < ns; i++)
+        for (int j = 0; j < nt; j++) take(CGAL::squared_distance(es[i], et[j]));
+    return best;
+}
+
+// Is there a plane with s on one closed side and t on the other (weak separation)?
+bool weakly_separated(const Simplex<QP> &s, const Simplex<QP> &t) {
+    std::vector<QV> es, et, axes;
+    for (int i = 0; i < s.dim + (s.dim == 2 ? 1 : 0); i++) es.push_back(s.p[(i + 1) % 3] - s.p[i]);
+    for (int i = 0; i < t.dim + (t.dim == 2 ? 1 : 0); i++) et.push_back(t.p[(i + 1) % 3] - t.p[i]);
+    if (s.dim == 1) es.resize(1);
+    if (t.dim == 1) et.resize(1);
+    QV ns, nt;
+    bool has_ns = s.dim == 2, has_nt = t.dim == 2;
+    if (has_ns) ns = CGAL::cross_product(es[0], es[1]);
+    if (has_nt) nt = CGAL::cross_product(et[0], et[1]);
+    if (has_ns) axes.push_back(ns);
+    if (has_nt) axes.push_back(nt);
+    for (auto &a : es)
+        for (auto &b : et) axes.push_back(CGAL::cross_product(a, b));
+    if (has_ns)
+        for (auto &a : es) axes.push_back(CGAL::cross_product(ns, a));
+    if (has_nt)
+        for (auto &b : et) axes.push_back(CGAL::cross_product(nt, b));
+    const QV zero(0, 0, 0);
+    for (const QV &ax : axes) {
+        if (ax == zero) continue;
+        QF lo_s, hi_s, lo_t, hi_t;
+        for (int i = 0; i <= s.dim; i++) {
+            QF d = ax * (s.p[i] - CGAL::ORIGIN);
+            if (i == 0 || d < lo_s) lo_s = d;
+            if (i == 0 || d > hi_s) hi_s = d;
+        }
+        for (int i = 0; i <= t.dim; i++) {
+            QF d = ax * (t.p[i] - CGAL::ORIGIN);
+            if (i == 0 || d < lo_t) lo_t = d;
+            if (i == 0 || d > hi_t) hi_t = d;
+        }
+        if (hi_s <= lo_t || hi_t <= lo_s) return true;
+    }
+    return false;
+}
+
+void poly_tris(const Mesh &M, uint32_t p, uint32_t *t, int &n) {
+    if (M.vpp == 3) {
+        t[0] = p;
+        n = 1;
+    } else {
+        t[0] = 2 * p;
+        t[1] = 2 * p + 1;
+        n = 2;
+    }
+}
+
+} // namespace
+
+bool exact_tri_intersect(const double *pa, const uint32_t *ta, const double *pb,
+                         const uint32_t *tb) {
+    return meet(simplex(pa, ta), simplex(pb, tb));
+}
+
+void exact_pairs(const Mesh &A, const double *pa, const Mesh &B, const double *pb,
+                 std::vector<Key> &out) {
+    out.clear();
+    std::vector<Box> ba, bb;
+    boxes(A, pa, nullptr, ba);
+    Box ta = total(ba);
+    boxes(B, pb, &ta, bb);
+    Box tb = total(bb);
+    boxes(A, pa, &tb, ba);
+    auto by_x = [](const Box &x, const Box &y) { return x.lo[0] < y.lo[0]; };
+    std::sort(ba.begin(), ba.end(), by_x);
+    std::sort(bb.begin(), bb.end(), by_x);
+    std::vector<const Box *> act[2];
+    size_t i = 0, j = 0;
+    while (i < ba.size() || j < bb.size()) {
+        bool is_a = j >= bb.size() || (i < ba.size() && ba[i].lo[0] <= bb[j].lo[0]);
+        const Box &cur = is_a ? ba[i++] : bb[j++];
+        auto &other = act[is_a ? 1 : 0];
+        size_t m = 0;
+        for (size_t k = 0; k < other.size(); k++)
+            if (other[k]->hi[0] >= cur.lo[0]) other[m++] = other[k];
+        other.resize(m);
+        for (const Box *o : other) {
+            if (o->hi[1] < cur.lo[1] || cur.hi[1] < o->lo[1] || o->hi[2] < cur.lo[2] ||
+                cur.hi[2] < o->lo[2])
+                continue;
+            uint32_t a = is_a ? cur.id : o->id, b = is_a ? o->id : cur.id;
+            if (exact_tri_intersect(pa, &A.tri[3 * a], pb, &B.tri[3 * b])) out.push_back(key(a, b));
+        }
+        act[is_a ? 0 : 1].push_back(&cur);
+    }
+    sort_unique(out);
+}
+
+Verdict judge(const Mesh &A, const double *pa, uint32_t a, const Mesh &B, const double *pb,
+              uint32_t b, double half_eps) {
+    uint32_t tas[2], tbs[2];
+    int na, nb;
+    poly_tris(A, a, tas, na);
+    poly_tris(B, b, tbs, nb);
+    bool met = false, cross = false, coplanar = true, first = true;
+    QF best = 0;
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++) {
+            Simplex<P> s = simplex(pa, &A.tri[3 * tas[i]]), t = simplex(pb, &B.tri[3 * tbs[j]]);
+            Simplex<QP> qs = to_q(s), qt = to_q(t);
+            if (meet(s, t)) {
+                met = true;
+                if (!weakly_separated(qs, qt)) cross = true;
+                bool cp = s.dim == 2 && t.dim == 2;
+                for (int k = 0; cp && k < 3; k++)
+                    cp = CGAL::coplanar(s.p[0], s.p[1], s.p[2], t.p[k]);
+                coplanar = coplanar && cp;
+            } else {
+                QF d = sq_dist(qs, qt);
+                if (d == 0) throw std::runtime_error("judge: CGAL do_intersect and distance disagree");
+                if (first || d < best) best = d;
+                first = false;
+            }
+        }
+    if (met) return {cross ? CROSS : TOUCH, !cross && coplanar, 0.0};
+    QF h(half_eps);
+    double dist = std::sqrt(CGAL::to_double(best));
+    return {best <= h * h ? BAND : APART, false, dist};
+}
+
+} // namespace xc

@@ -1,0 +1,43 @@
+// crosscheck: scene definitions (see scenes.cpp).
+#pragma once
+
+#include "common.hpp"
+
+#include <array>
+#include <functional>
+
+namespace xc {
+
+// Deformation, absolute from the rest pose, in the mesh's own frame:
+// x[shift] += sign * amp * sin(0.35 f + k x[along]). A and B get opposite signs (as in
+// ../shared/peers/BUILD.md): with the same warp the set of intersecting pairs hardly changes.
+struct Warp {
+    double amp = 0, k = 0, sign = 1;
+    int shift = 1, along = 0;
+};
+
+struct Body {
+    Mesh mesh;
+    Warp warp;
+    // Rigid placement at frame f (applied after the warp): x' = R x + t. Empty = identity.
+    std::function<void(int f, double R[9], double t[3])> place;
+};
+
+struct Scene {
+    std::string name, kind;
+    Body A, B;    // A is glcollide's reference mesh
+    int frames = 100;
+    float eps = 0; // glcollide's second run uses this epsilon
+};
+
+// Positions of body b at frame f: computed in double, rounded to float (what glcollide
+// takes), and those floats widened back to double (what FCL, Bullet and CGAL take), so all
+// libraries see exactly the same coordinates.
+void pose(const Body &b, int f, std::vector<float> &fo, std::vector<double> &d);
+
+Mesh load_obj(const std::string &dir, const std::string &name);
+
+// Every scene, built lazily (meshes are loaded when the scene runs).
+std::vector<std::function<Scene()>> all_scenes(const std::string &dir, int frames_override);
+
+} // namespace xc
