@@ -8,7 +8,9 @@ for f in scripts/test.d/*.deps; do [ -e "$f" ] && extra+=($(cat "$f")); done
 bash scripts/deps.sh "${extra[@]}"
 echo "== cargo test"
 log=$(mktemp)
-if ! cargo test --release --locked --all-targets >"$log" 2>&1; then
+# Library, integration tests and benchmarks built (benchmarks are run by their own smoke
+# check, not here).
+if ! { cargo test --release --locked --lib --tests && cargo bench --locked --no-run; } >"$log" 2>&1; then
   grep -vE '^test .* ok$' "$log" | tail -80
   exit 1
 fi
