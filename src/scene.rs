@@ -1,6 +1,7 @@
 //! A scene: meshes by id, one backend, and the last query's contacts.
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::backend::cpu::CpuSelector;
 use crate::backend::{Backend, QueryMeshes, Selector};
@@ -8,7 +9,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::{Mesh, Positions};
 use crate::query::{self, Contact, QueryStats, Workspace};
 
-/// Id of a mesh in its scene. Ids start at 1 and are never reused within a scene.
+/// Id of a mesh. Ids start at 1, are never 0 and never reused (unique in the process).
 pub type MeshId = u32;
 
 /// How a scene answers queries.
@@ -46,7 +47,6 @@ impl SceneConfig {
 pub struct Scene {
     config: SceneConfig,
     meshes: BTreeMap<MeshId, Mesh>,
-    next_id: MeshId,
     selector: Box<dyn Selector>,
     workspace: Workspace,
     contacts: Vec<Contact>,
@@ -64,7 +64,6 @@ impl Scene {
         Ok(Scene {
             config,
             meshes: BTreeMap::new(),
-            next_id: 1,
             selector,
             workspace: Workspace::default(),
             contacts: Vec::new(),
@@ -86,20 +85,18 @@ impl Scene {
         indices: &[u32],
         vertices_per_polygon: usize,
     ) -> Result<MeshId> {
-        if self.next_id == MeshId::MAX {
-            return Err(Error::new(
-                ErrorKind::Unsupported,
-                "this scene has used up its 2^32 - 2 mesh ids",
-            ));
-        }
         let mesh = Mesh::new(
             positions,
             indices,
             vertices_per_polygon,
             self.config.max_polygons_per_box as usize,
         )?;
-        let id = self.next_id;
-        self.next_id += 1;
+        let id = fresh_mesh_id().ok_or_else(|| {
+            Error::new(
+                ErrorKind::Unsupported,
+                "this process has used up its 2^32 - 2 mesh ids",
+            )
+        })?;
         self.meshes.insert(id, mesh);
         Ok(id)
     }
@@ -179,6 +176,18 @@ impl Scene {
     pub fn stats(&self) -> QueryStats {
         self.workspace.stats
     }
+}
+
+/// Mesh ids come from one process-wide counter: an id is never reused, and an id from
+/// another scene is never the id of a live mesh in this one (it answers UNKNOWN_MESH).
+static NEXT_MESH_ID: AtomicU32 = AtomicU32::new(1);
+
+fn fresh_mesh_id() -> Option<MeshId> {
+    NEXT_MESH_ID
+        .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |v| {
+            (v < MeshId::MAX).then_some(v + 1)
+        })
+        .ok()
 }
 
 fn unknown(id: MeshId) -> Error {
