@@ -67,14 +67,16 @@ void fcl_destroy(FclPeer *p);
 
 // ---- bullet_peer.cpp -------------------------------------------------------------------
 struct BulletPeer;
-BulletPeer *bullet_create(const Mesh &A, const double *pa, const Mesh &B, const double *pb);
-// Refit (or rebuild when a mesh leaves its quantization frame; counted).
+// rebuild_guard: rebuild (instead of refit) when a mesh leaves its quantization frame.
+BulletPeer *bullet_create(const Mesh &A, const double *pa, const Mesh &B, const double *pb,
+                          bool rebuild_guard);
+// Refit (or, with the guard, rebuild when a mesh left its quantization frame; counted).
 void bullet_update(BulletPeer *p, const double *pa, const double *pb);
 // Triangle pairs whose GImpact boxes overlap (find_collision).
 void bullet_candidates(BulletPeer *p, std::vector<Key> &tri_pairs);
 // GImpact's own triangle test (collide_sat_triangles, margin 0) on the candidates.
 void bullet_native(BulletPeer *p, const std::vector<Key> &cand, std::vector<Key> &tri_pairs);
-int bullet_rebuilds(const BulletPeer *p);
+int bullet_rebuilds(const BulletPeer *p); // with the guard: rebuilds; without: frames out of frame
 void bullet_destroy(BulletPeer *p);
 
 } // namespace xc

@@ -82,19 +82,31 @@ struct Glc {
         GLC(glcol_mesh_update_positions(s, a, pa, 0, na, 0));
         GLC(glcol_mesh_update_positions(s, b, pb, 0, nb, 0));
     }
-    void query(std::vector<Key> &out) {
+    // Pairs (polygon of A, polygon of B), asking with A (or, reversed, B) as the reference.
+    void query(std::vector<Key> &out, bool reversed = false) {
         const GlcolContact *c = nullptr;
         size_t n = 0;
-        GLC(glcol_query(s, a, &c, &n));
+        GLC(glcol_query(s, reversed ? b : a, &c, &n));
         out.clear();
-        for (size_t i = 0; i < n; i++)
-            if (c[i].other_mesh == b) out.push_back(key(c[i].reference_polygon, c[i].other_polygon));
-        sort_unique(out); // already sorted and unique by contract; kept cheap and defensive
+        for (size_t i = 0; i < n; i++) {
+            if (c[i].other_mesh != (reversed ? a : b)) continue;
+            out.push_back(reversed ? key(c[i].other_polygon, c[i].reference_polygon)
+                                   : key(c[i].reference_polygon, c[i].other_polygon));
+        }
+        sort_unique(out); // sorted and unique by contract (A as reference); cheap
     }
 };
 
-enum Lib { L_EXACT, L_GLC0, L_GLCE, L_FCL, L_BULLET, L_NATIVE, NLIB };
-const char *lib_name[NLIB] = {"exact", "glc e=0", "glc e", "FCL", "Bullet", "GImpact native"};
+enum Lib { L_EXACT, L_GLC0, L_GLC0R, L_GLCE, L_FCL, L_BULLET, L_BULLET_RO, L_NATIVE, NLIB };
+const char *lib_name[NLIB] = {"exact",  "glc e=0", "glc e=0 B-ref", "glc e",
+                              "FCL",    "Bullet",  "Bullet refit-only", "GImpact native"};
+// glcollide's own verdicts: any disagreement at e=0 (either mesh as the reference); at e > 0
+// a missed pair or an extra pair farther apart than e/2.
+bool is_failure(int lib, bool missed, Class c) {
+    if (lib == L_GLC0 || lib == L_GLC0R) return true;
+    if (lib == L_GLCE) return missed || c == APART;
+    return false;
+}
 
 struct Example {
     int frame;
@@ -122,7 +134,9 @@ struct SceneResult {
     int frames;
     float eps;
     LibStats lib[NLIB];
-    int bullet_rebuilds = 0;
+    long long exact_touch = 0, exact_coplanar = 0;
+    double glce_max_extra = 0; // largest exact distance of glc e's extra pairs
+    int bullet_rebuilds = 0, bullet_out_of_frame = 0;
     long long glc_fail = 0;
     double seconds = 0;
 };
@@ -158,7 +172,7 @@ std::string fmt_disagree(const LibStats &s) {
     return r.empty() ? "0" : r;
 }
 
-SceneResult run(const Scene &S, size_t max_examples) {
+SceneResult run(const Scene &S, size_t max_examples, bool classify_exact) {
     Timer total;
     SceneResult R;
     R.name = S.name;
@@ -169,6 +183,7 @@ SceneResult run(const Scene &S, size_t max_examples) {
     R.vpb = S.B.mesh.vpp;
     R.frames = S.frames;
     R.eps = S.eps;
+    R.exact_touch = classify_exact ? 0 : -1;
     const Mesh &A = S.A.mesh, &B = S.B.mesh;
     const double half = double(S.eps) / 2;
 
@@ -178,7 +193,8 @@ SceneResult run(const Scene &S, size_t max_examples) {
     pose(S.B, 0, fb, db);
     Glc g0(A, fa.data(), B, fb.data(), 0.0f), ge(A, fa.data(), B, fb.data(), S.eps);
     FclPeer *fcl = fcl_create(A, da.data(), B, db.data());
-    BulletPeer *bul = bullet_create(A, da.data(), B, db.data());
+    BulletPeer *bul = bullet_create(A, da.data(), B, db.data(), true);
+    BulletPeer *bro = bullet_create(A, da.data(), B, db.data(), false);
 
     std::vector<Key> set[NLIB], tmp, cand;
     for (int f = 0; f < S.frames; f++) {
@@ -197,6 +213,7 @@ SceneResult run(const Scene &S, size_t max_examples) {
             if (f > 0) g0.update(fa.data(), fb.data());
             g0.query(set[L_GLC0]);
             R.lib[L_GLC0].us.push_back(t.us());
+            g0.query(set[L_GLC0R], true);
         }
         {
             Timer t;
@@ -227,6 +244,17 @@ SceneResult run(const Scene &S, size_t max_examples) {
             R.lib[L_NATIVE].us.push_back(t_bvh + t2.us());
             to_poly(A, B, tmp, set[L_NATIVE]);
         }
+        {
+            Timer t;
+            if (f > 0) bullet_update(bro, da.data(), db.data());
+            bullet_candidates(bro, cand);
+            tmp.clear();
+            for (Key k : cand)
+                if (exact_tri_intersect(da.data(), &A.tri[3 * key_a(k)], db.data(), &B.tri[3 * key_b(k)]))
+                    tmp.push_back(k);
+            R.lib[L_BULLET_RO].us.push_back(t.us());
+            to_poly(A, B, tmp, set[L_BULLET_RO]);
+        }
 
         // Judge every pair on which a library and the exact reference disagree.
         std::unordered_map<Key, Verdict> cache;
@@ -239,6 +267,12 @@ SceneResult run(const Scene &S, size_t max_examples) {
         };
         const std::vector<Key> &ex = set[L_EXACT];
         R.lib[L_EXACT].pairs += long(ex.size());
+        if (classify_exact)
+            for (Key k : ex) {
+                Verdict v = verdict(k);
+                if (v.cls == TOUCH) R.exact_touch++;
+                if (v.coplanar) R.exact_coplanar++;
+            }
         for (int l = L_GLC0; l < NLIB; l++) {
             LibStats &st = R.lib[l];
             const std::vector<Key> &s = set[l];
@@ -253,7 +287,8 @@ SceneResult run(const Scene &S, size_t max_examples) {
                     if (met != (pass == 0))
                         throw std::runtime_error("the exact reference and the judge disagree on a pair");
                     (pass == 0 ? st.miss : st.extra)[v.cls]++;
-                    bool fail = (l == L_GLC0) || (l == L_GLCE && (pass == 0 || v.cls == APART));
+                    if (l == L_GLCE && pass == 1) R.glce_max_extra = std::max(R.glce_max_extra, v.dist);
+                    bool fail = is_failure(l, pass == 0, v.cls);
                     if (fail) R.glc_fail++;
                     if (st.examples.size() < max_examples || (fail && st.examples.size() < 4 * max_examples))
                         st.examples.push_back({f, k, pass == 0, v});
@@ -261,8 +296,10 @@ SceneResult run(const Scene &S, size_t max_examples) {
         }
     }
     R.bullet_rebuilds = bullet_rebuilds(bul);
+    R.bullet_out_of_frame = bullet_rebuilds(bro);
     fcl_destroy(fcl);
     bullet_destroy(bul);
+    bullet_destroy(bro);
     R.seconds = total.us() / 1e6;
     return R;
 }
@@ -274,39 +311,73 @@ std::string shape(const SceneResult &r) {
 }
 
 void table(FILE *out, const std::vector<SceneResult> &rs) {
-    fprintf(out, "| scene | polygons A x B | frames | e | exact | glc e=0 | glc e | FCL | Bullet | GImpact native "
-                 "| glc e=0 disagreements | glc e disagreements | FCL disagreements | Bullet disagreements "
-                 "| GImpact native disagreements |\n");
-    fprintf(out, "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|---|---|---|---|---|\n");
+    fprintf(out, "| scene | polygons A x B | frames | e | exact (touching) |");
+    for (int l = L_GLC0; l < NLIB; l++) fprintf(out, " %s |", lib_name[l]);
+    fprintf(out, " glc e: farthest extra / (e/2) |");
+    fprintf(out, "\n|---|---|--:|--:|--:|");
+    for (int l = L_GLC0; l < NLIB; l++) fprintf(out, "--:|");
+    fprintf(out, "--:|");
+    fprintf(out, "\n");
     for (const auto &r : rs) {
-        fprintf(out, "| %s | %s | %d | %.3g |", r.name.c_str(), shape(r).c_str(), r.frames, double(r.eps));
-        for (int l = 0; l < NLIB; l++) fprintf(out, " %lld |", r.lib[l].pairs);
+        fprintf(out, "| %s | %s | %d | %.3g | %lld", r.name.c_str(), shape(r).c_str(), r.frames, double(r.eps),
+                r.lib[L_EXACT].pairs);
+        if (r.exact_touch >= 0) fprintf(out, " (%lld)", r.exact_touch);
+        fprintf(out, " |");
+        for (int l = L_GLC0; l < NLIB; l++) fprintf(out, " %lld |", r.lib[l].pairs);
+        fprintf(out, " %.3f |\n", r.glce_max_extra / (double(r.eps) / 2));
+    }
+}
+
+void disagreement_table(FILE *out, const std::vector<SceneResult> &rs) {
+    fprintf(out, "| scene |");
+    for (int l = L_GLC0; l < NLIB; l++) fprintf(out, " %s |", lib_name[l]);
+    fprintf(out, "\n|---|");
+    for (int l = L_GLC0; l < NLIB; l++) fprintf(out, "---|");
+    fprintf(out, "\n");
+    for (const auto &r : rs) {
+        fprintf(out, "| %s |", r.name.c_str());
         for (int l = L_GLC0; l < NLIB; l++) fprintf(out, " %s |", fmt_disagree(r.lib[l]).c_str());
         fprintf(out, "\n");
     }
 }
 
 void timing_table(FILE *out, const std::vector<SceneResult> &rs) {
-    fprintf(out, "| scene | exact | glc e=0 | glc e | FCL | Bullet (+exact) | Bullet rebuilds | wall s |\n");
-    fprintf(out, "|---|--:|--:|--:|--:|--:|--:|--:|\n");
+    fprintf(out, "| scene | exact | glc e=0 | glc e | FCL | Bullet (+exact) | Bullet rebuilds | "
+                 "refit-only: frames out of frame | wall s |\n");
+    fprintf(out, "|---|--:|--:|--:|--:|--:|--:|--:|--:|\n");
     for (const auto &r : rs) {
         fprintf(out, "| %s |", r.name.c_str());
         for (int l : {L_EXACT, L_GLC0, L_GLCE, L_FCL, L_BULLET}) fprintf(out, " %.2f |", median(r.lib[l].us) / 1e3);
-        fprintf(out, " %d | %.1f |\n", r.bullet_rebuilds, r.seconds);
+        fprintf(out, " %d | %d | %.1f |\n", r.bullet_rebuilds, r.bullet_out_of_frame, r.seconds);
     }
 }
 
 } // namespace
 
+const char *usage =
+    "usage: crosscheck [options]\n"
+    "  --meshes DIR      real meshes (default ../shared/meshes)\n"
+    "  --frames N        frames per scene (default: each scene's own, >= 100)\n"
+    "  --only TEXT       only the scenes whose name contains TEXT\n"
+    "  --pair A.obj B.obj  instead of the built-in scenes: A and B as they are (a shared frame),\n"
+    "                    opposite warps; repeatable\n"
+    "  --tool T.obj O.obj  instead of the built-in scenes: instrument T placed into O's surface\n"
+    "                    (scaled to 1/10 of O's diagonal), moving and bending; repeatable\n"
+    "  --examples N      judged examples printed per library and scene (default 3)\n"
+    "  --no-classify     do not classify the exact pairs (touching count)\n"
+    "  --markdown FILE   also write the two summary tables there\n";
+
 int main(int argc, char **argv) {
     std::string dir = "../shared/meshes", only, md;
     int frames = 0;
     size_t examples = 3;
+    bool classify = true;
+    std::vector<std::function<Scene()>> custom;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto next = [&]() -> std::string {
             if (i + 1 >= argc) {
-                fprintf(stderr, "%s needs a value\n", a.c_str());
+                fprintf(stderr, "%s needs a value\n%s", a.c_str(), usage);
                 exit(2);
             }
             return argv[++i];
@@ -316,8 +387,18 @@ int main(int argc, char **argv) {
         else if (a == "--only") only = next();
         else if (a == "--examples") examples = size_t(atoi(next().c_str()));
         else if (a == "--markdown") md = next();
-        else {
-            fprintf(stderr, "usage: %s [--meshes DIR] [--frames N] [--only TEXT] [--examples N] [--markdown FILE]\n", argv[0]);
+        else if (a == "--no-classify") classify = false;
+        else if (a == "--pair" || a == "--tool") {
+            std::string x = next(), y = next();
+            bool tool = a == "--tool";
+            custom.push_back([x, y, tool, &frames] {
+                int fr = frames > 0 ? frames : 100;
+                Mesh mx = load_obj_path(x), my = load_obj_path(y);
+                static const double d[3] = {1, 0.3, 0.2};
+                return tool ? instrument_vs_organ(mx, my, d, fr) : organ_vs_organ(mx, my, fr);
+            });
+        } else {
+            fprintf(stderr, "%s", usage);
             return 2;
         }
     }
@@ -326,12 +407,12 @@ int main(int argc, char **argv) {
     std::vector<SceneResult> rs;
     long long fails = 0;
     try {
-        for (auto &make : all_scenes(dir, frames)) {
+        for (auto &make : custom.empty() ? all_scenes(dir, frames) : custom) {
             Scene S = make();
             if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-            SceneResult r = run(S, examples);
+            SceneResult r = run(S, examples, classify);
             fails += r.glc_fail;
-            printf("%-46s %3d frames  exact %8lld  glc0 %8lld  glcE %8lld  fcl %8lld  bullet %8lld  native %8lld  %6.1fs%s\n",
+            printf("%-44s %3d fr  exact %7lld  glc0 %7lld  glcE %7lld  fcl %7lld  bullet %7lld  native %7lld  %5.1fs%s\n",
                    r.name.c_str(), r.frames, r.lib[L_EXACT].pairs, r.lib[L_GLC0].pairs, r.lib[L_GLCE].pairs,
                    r.lib[L_FCL].pairs, r.lib[L_BULLET].pairs, r.lib[L_NATIVE].pairs, r.seconds,
                    r.glc_fail ? "  GLCOLLIDE DISAGREES" : "");
@@ -343,9 +424,11 @@ int main(int argc, char **argv) {
         return 2;
     }
 
-    printf("\n## Summary (pairs summed over all frames; disagreements with the exact reference: "
-           "-N missed, +N extra, by class)\n\n");
+    printf("\n## Pairs per library (summed over all frames)\n\n");
     table(stdout, rs);
+    printf("\n## Disagreements with the exact reference, judged pair by pair "
+           "(-N missed, +N extra; cross / touch / band = within e/2 / apart = farther than e/2)\n\n");
+    disagreement_table(stdout, rs);
     printf("\n## Median milliseconds per frame (refit + query; exact = sweep + CGAL)\n\n");
     timing_table(stdout, rs);
 
@@ -356,14 +439,16 @@ int main(int argc, char **argv) {
             if (!s.any()) continue;
             printf("%s, %s: %s\n", r.name.c_str(), lib_name[l], fmt_disagree(s).c_str());
             for (const auto &e : s.examples)
-                printf("    frame %d  (%u, %u)  %s  %s%s  distance %.3g\n", e.frame, key_a(e.pair), key_b(e.pair),
+                printf("    frame %d  (%u, %u)  %s  %s%s  distance %.3g%s\n", e.frame, key_a(e.pair), key_b(e.pair),
                        e.missed ? "missed" : "extra", class_name[e.v.cls], e.v.coplanar ? " (coplanar)" : "",
-                       e.v.dist);
+                       e.v.dist, is_failure(l, e.missed, e.v.cls) ? "  <- glcollide FAILS" : "");
         }
     if (!md.empty()) {
         FILE *f = fopen(md.c_str(), "w");
         if (f) {
             table(f, rs);
+            fprintf(f, "\n");
+            disagreement_table(f, rs);
             fclose(f);
         }
     }
@@ -371,7 +456,7 @@ int main(int argc, char **argv) {
         printf("\nFAIL: %lld glcollide pair verdicts outside its documented semantics\n", fails);
         return 1;
     }
-    printf("\nOK: glcollide agrees with the exact reference on every scene (e=0: identical sets; "
-           "e>0: superset, every extra pair within e/2)\n");
+    printf("\nOK: glcollide agrees with the exact reference on every scene (e=0: identical sets, either mesh "
+           "as the reference; e>0: superset, every extra pair within e/2)\n");
     return 0;
 }

@@ -51,8 +51,15 @@ static double diag(const Mesh &M) {
 }
 
 Mesh load_obj(const std::string &dir, const std::string &name) {
+    Mesh M = load_obj_path(dir + "/" + name + ".obj");
+    M.name = name;
+    return M;
+}
+
+Mesh load_obj_path(const std::string &path) {
     GlcolObjMesh o;
-    std::string path = dir + "/" + name + ".obj";
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0) name.resize(name.size() - 4);
     if (glcol_obj_load(path.c_str(), &o) != GLCOL_STATUS_OK)
         throw std::runtime_error("cannot read " + path + ": " + glcol_last_error_message());
     Mesh M;
@@ -250,7 +257,7 @@ static Mesh instrument_local(Mesh M, double L) {
     return M;
 }
 
-static Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3], int frames) {
+Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3], int frames) {
     Scene S;
     S.kind = "instrument-organ";
     S.name = ins.name + " / " + organ.name;
@@ -285,7 +292,7 @@ static Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const doubl
     return S;
 }
 
-static Scene organ_vs_organ(const Mesh &a, const Mesh &b, int frames) {
+Scene organ_vs_organ(const Mesh &a, const Mesh &b, int frames) {
     Scene S;
     S.kind = "organ-organ";
     S.name = a.name + " / " + b.name;

@@ -35,7 +35,17 @@ struct Scene {
 // libraries see exactly the same coordinates.
 void pose(const Body &b, int f, std::vector<float> &fo, std::vector<double> &d);
 
-Mesh load_obj(const std::string &dir, const std::string &name);
+Mesh load_obj(const std::string &dir, const std::string &name); // dir/name.obj
+Mesh load_obj_path(const std::string &path);
+
+// Instrument `ins` (longest axis onto the direction of work, scaled to 1/10 of the organ's
+// diagonal) centred on the organ's vertex farthest along dir, moving in and out along dir
+// (-0.25..0.35 of its length) and spinning, bending along its length; the organ gets the
+// opposite-signed warp (0.4% of its diagonal). epsilon = 1e-3 x instrument length.
+Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3], int frames);
+// Two meshes in their shared frame, opposite warps (0.3% of the larger diagonal);
+// epsilon = 1e-3 x A's diagonal.
+Scene organ_vs_organ(const Mesh &a, const Mesh &b, int frames);
 
 // Every scene, built lazily (meshes are loaded when the scene runs).
 std::vector<std::function<Scene()>> all_scenes(const std::string &dir, int frames_override);
