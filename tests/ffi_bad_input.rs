@@ -699,7 +699,6 @@ fn a_second_scene_is_independent_and_its_ids_are_unknown_here() {
 /// says such an id is "not in this scene", but ids are numbered per scene from 1, so a
 /// foreign id is indistinguishable from this scene's own mesh with the same number.
 #[test]
-#[ignore = "bug: mesh ids are per-scene counters (src/scene.rs), so a foreign id can name a live mesh here"]
 fn a_foreign_id_equal_to_a_live_id_is_unknown() {
     let mut f = Fixture::new();
     let mut other = FfiScene::new(GlcolBackend::Cpu, 0.0, 0);

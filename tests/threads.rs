@@ -38,8 +38,14 @@ fn run(job: &Job) -> Vec<Vec<Hit>> {
         let ph = frame as f32 * 0.7;
         s.update(ia, 0, &wave(&a.pos, amp, 6.0 / size, ph));
         s.update(ib, 0, &wave(&b.pos, amp, 5.0 / size, -ph));
-        out.push(s.query(ia));
-        out.push(s.query(ib));
+        // Mesh ids are unique in the process: name the other mesh by creation order.
+        let local = |hits: Vec<Hit>| -> Vec<Hit> {
+            hits.into_iter()
+                .map(|(o, a, b)| (if o == ia { 1 } else { 2 }, a, b))
+                .collect()
+        };
+        out.push(local(s.query(ia)));
+        out.push(local(s.query(ib)));
     }
     out
 }
