@@ -262,13 +262,13 @@ pub unsafe extern "C" fn glcol_mesh_create(
         // Counts the library cannot number are refused before any array is touched.
         if d.vertex_count > u32::MAX as usize {
             return Err(invalid(format!(
-                "vertex_count {} is more than 2^32 - 1",
+                "vertex_count {} overflows the 32-bit vertex numbers (at most 2^32 - 1)",
                 d.vertex_count
             )));
         }
         if d.polygon_count > u32::MAX as usize - 1 {
             return Err(invalid(format!(
-                "polygon_count {} is more than 2^32 - 2",
+                "polygon_count {} overflows the 32-bit polygon numbers (at most 2^32 - 2)",
                 d.polygon_count
             )));
         }
