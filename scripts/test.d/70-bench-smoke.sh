@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Benchmark smoke run: every program of `scripts/bench.sh` on the small scenes with 3 frames
+# (glcol_peers --quick), into a temporary directory. Checks that everything builds, runs,
+# agrees with the exact answer and writes its files; asserts nothing about timing.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cargo build --release --locked -q
+make -s -C bench/peers LIBDIR="${CARGO_TARGET_DIR:-$PWD/target}/release"
+mkdir -p "$tmp/scenes"
+bench/peers/build/glcol_peers --quick --meshes "${MESHES:-../shared/meshes}" --out "$tmp" --dump "$tmp/scenes" 2>"$tmp/log" \
+  || { cat "$tmp/log"; exit 1; }
+cargo bench --locked -q --bench parry -- "$tmp/scenes" "$tmp/parry.csv" 2>>"$tmp/log" || { cat "$tmp/log"; exit 1; }
+echo "smoke" >"$tmp/machine.txt"
+python3 bench/summarize.py "$tmp" >/dev/null
+for f in peers.csv parry.csv memory_rust.csv SUMMARY.md results.json fig2_polygons_per_box.svg fig3_query_vs_size.svg speed_vs_error.svg; do
+  [ -s "$tmp/$f" ] || { echo "bench smoke: $f missing"; exit 1; }
+done
+# exact configurations must give the exact answer (columns: engine 3, eps_rel 4, missed 16, extra 17)
+bad=$(awk -F, 'NR > 1 && $4 == 0 && $16 != "" && ($16 != 0 || $17 != 0) && $3 !~ /gl_/ { print $1 " " $3 ": missed " $16 ", extra " $17 }' "$tmp/peers.csv" "$tmp/parry.csv")
+if [ -n "$bad" ]; then
+  echo "bench smoke: an exact configuration disagrees with the exact answer:"
+  echo "$bad"
+  exit 1
+fi
+echo "bench smoke: $(($(wc -l <"$tmp/peers.csv") - 1)) + $(($(wc -l <"$tmp/parry.csv") - 1)) runs, exact answers where expected"
