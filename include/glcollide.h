@@ -23,6 +23,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
+// Volume padding relative to the local size of a volume and its candidates: 2^-16, about
+// 256 float ulps, well above the rounding of the transform and of clipping.
+#define PAD_REL (1.0 / 65536.0)
+
+// The smallest epsilon the GL backends use, relative to the largest extent of the meshes
+// of a query: a smaller epsilon (0 included) is raised to `MIN_RELATIVE_EPSILON × extent`.
+#define MIN_RELATIVE_EPSILON (1.0 / 1048576.0)
+
 // ABI version: bumps on any incompatible change of the C API (and with it the soname).
 #define GLCOL_ABI_VERSION 1
 
@@ -165,14 +173,30 @@ void glcol_scene_desc_init(struct GlcolSceneDesc *desc);
 void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 
 // Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
-// failure `*out_scene` is untouched. AUTO gives the CPU backend in this build; asking for
-// a GL backend answers GLCOL_STATUS_GL_UNAVAILABLE without a loader and
-// GLCOL_STATUS_UNSUPPORTED otherwise (the GL backends are not in this build yet).
+// failure `*out_scene` is untouched.
+//
+// GL backends load their entry points through `desc->get_proc_address` for the context
+// current on the calling thread, and every later GL-backed call of the scene must run
+// with that context (or one sharing its objects) current. Every GL-backed call leaves the
+// host's GL state as it found it (see README "GL backends") and answers
+// GLCOL_STATUS_GL_ERROR, naming the GL error, if the GL reports one during its work.
+// - GLCOL_BACKEND_AUTO: GLCOL_BACKEND_GL_COMPUTE on a hardware GL 4.3+ context when
+//   epsilon > 0; the CPU backend when there is no loader or no current context, on a
+//   software renderer (llvmpipe, softpipe, SwiftShader: the CPU is faster there), or when
+//   epsilon = 0 (exact answers). `glcol_scene_backend` tells which.
+// - GLCOL_BACKEND_GL_SELECT: needs a compatibility-profile context (or GL 3.0) and 3 clip
+//   planes; GLCOL_BACKEND_GL_COMPUTE needs GL 4.3+ (core or compatibility). Otherwise, or
+//   without a loader or a current context: GLCOL_STATUS_GL_UNAVAILABLE, the message says
+//   why.
+// - GL backends: epsilon below 2^-20 times the largest extent of the meshes in a query (0
+//   included) is raised to that minimum for the query (float clip precision).
 enum GlcolStatus glcol_scene_create(const struct GlcolSceneDesc *desc,
                                     struct GlcolScene **out_scene);
 
-// Frees a scene and everything in it. NULL is fine. (GL backends: the scene's context
-// must be current.) Using the pointer afterwards is undefined (not detectable).
+// Frees a scene and everything in it. NULL is fine. GL backends: deletes the scene's GL
+// objects, so the scene's context (or one sharing its objects) must be current; the
+// host's GL state is left as it was. Using the pointer afterwards is undefined (not
+// detectable).
 void glcol_scene_destroy(struct GlcolScene *scene);
 
 // The backend the scene runs on (what AUTO chose).
@@ -218,10 +242,15 @@ enum GlcolStatus glcol_query(struct GlcolScene *scene,
                              const struct GlcolContact **out_contacts,
                              size_t *out_count);
 
-// GL_COMPUTE backend only: the mesh reads its positions (xyz floats, `stride` bytes apart
-// from `offset`) from the host's buffer object `gl_buffer` at each query, with no copy
-// through the CPU; the host keeps ownership. Other backends answer
-// GLCOL_STATUS_UNSUPPORTED.
+// GL_COMPUTE backend only: from now on the mesh reads its positions from the host's GL
+// buffer object `gl_buffer` at each query, with no copy through the CPU; the host keeps
+// ownership and must keep the buffer alive (and `vertex_count` vertices in it) while it
+// is bound. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
+// `offset` and `stride` multiples of 4, stride >= 12). The positions the mesh was created
+// with (or last given by `glcol_mesh_update_positions`, which unbinds the buffer) are not
+// used while bound. Needs the scene's context current. Statuses: UNKNOWN_MESH,
+// INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride, buffer too small),
+// GL_ERROR; other backends answer GLCOL_STATUS_UNSUPPORTED.
 enum GlcolStatus glcol_mesh_bind_gl_buffer(struct GlcolScene *scene,
                                            GlcolMeshId mesh,
                                            uint32_t gl_buffer,

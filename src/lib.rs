@@ -11,6 +11,7 @@ pub mod backend;
 pub mod bvh;
 pub mod error;
 pub mod geom;
+pub mod gpu;
 pub mod mesh;
 pub mod obj;
 pub mod query;

@@ -121,7 +121,9 @@ impl Scene {
         first: usize,
         positions: Positions<'_>,
     ) -> Result<()> {
-        self.mesh_mut(id)?.update_positions(first, positions)
+        self.mesh_mut(id)?.update_positions(first, positions)?;
+        self.selector.mesh_updated(id);
+        Ok(())
     }
 
     pub fn set_enabled(&mut self, id: MeshId, enabled: bool) -> Result<()> {
@@ -130,13 +132,40 @@ impl Scene {
     }
 
     pub fn destroy_mesh(&mut self, id: MeshId) -> Result<()> {
-        self.meshes.remove(&id).map(drop).ok_or_else(|| unknown(id))
+        self.meshes
+            .remove(&id)
+            .map(drop)
+            .ok_or_else(|| unknown(id))?;
+        self.selector.mesh_destroyed(id);
+        Ok(())
+    }
+
+    /// GL_COMPUTE: mesh `id` reads its positions (xyz `f32`, `stride` bytes apart from
+    /// `offset`, 0 = 12) from the host's buffer object `buffer` at each query.
+    pub fn bind_gl_buffer(
+        &mut self,
+        id: MeshId,
+        buffer: u32,
+        offset: usize,
+        stride: usize,
+    ) -> Result<()> {
+        let m = self.meshes.get(&id).ok_or_else(|| unknown(id))?;
+        self.selector.bind_gl_buffer(id, m, buffer, offset, stride)
+    }
+
+    /// Deletes the backend's GL objects (GL backends; the scene's context must be current).
+    pub fn release_gl(&mut self) {
+        self.selector.release();
     }
 
     /// Collides `reference` with every other enabled mesh. Contacts are sorted by (other
     /// mesh, reference polygon, other polygon), each pair once. A disabled reference has
     /// no contacts.
     pub fn query(&mut self, reference: MeshId) -> Result<&[Contact]> {
+        if !self.meshes.contains_key(&reference) {
+            return Err(unknown(reference));
+        }
+        self.selector.prepare(&mut self.meshes)?;
         let r = self
             .meshes
             .get(&reference)

@@ -7,8 +7,12 @@
 //! the volume and the candidate by their positions in the batch.
 
 pub mod cpu;
+pub mod gl_compute;
+pub mod gl_select;
 
-use crate::error::Result;
+use std::collections::BTreeMap;
+
+use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::Mesh;
 
 /// The backends of the C API.
@@ -134,4 +138,40 @@ pub trait Selector: Send {
         batch: &Batch,
         hits: &mut Vec<Hit>,
     ) -> Result<()>;
+
+    /// Called before each query with every mesh of the scene: a GPU backend refreshes what
+    /// it holds (meshes whose positions live in a host buffer get their boxes refitted and
+    /// written back here).
+    fn prepare(&mut self, _meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
+        Ok(())
+    }
+
+    /// Mesh `id` got new positions from the CPU.
+    fn mesh_updated(&mut self, _id: u32) {}
+
+    /// Mesh `id` was destroyed.
+    fn mesh_destroyed(&mut self, _id: u32) {}
+
+    /// From now on mesh `id` reads its positions from the host's GL buffer object (GL
+    /// backends that can; the others answer Unsupported).
+    fn bind_gl_buffer(
+        &mut self,
+        _id: u32,
+        _mesh: &Mesh,
+        _buffer: u32,
+        _offset: usize,
+        _stride: usize,
+    ) -> Result<()> {
+        Err(Error::new(
+            ErrorKind::Unsupported,
+            format!(
+                "glcol_mesh_bind_gl_buffer needs the GL_COMPUTE backend; this scene runs on {:?}",
+                self.backend()
+            ),
+        ))
+    }
+
+    /// Deletes the backend's GL objects (the scene's context must be current). Called once,
+    /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
+    fn release(&mut self) {}
 }

@@ -12,7 +12,9 @@ use std::ffi::{c_char, CStr};
 use guard::{guard, guard_or, invalid, non_null, Fail, FfiResult};
 pub use types::*;
 
-use crate::backend::Backend;
+use crate::backend::cpu::CpuSelector;
+use crate::backend::{Backend, Selector};
+use crate::gpu::Request;
 use crate::mesh::Positions;
 use crate::scene::{Scene, SceneConfig};
 
@@ -144,9 +146,23 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
 }
 
 /// Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
-/// failure `*out_scene` is untouched. AUTO gives the CPU backend in this build; asking for
-/// a GL backend answers GLCOL_STATUS_GL_UNAVAILABLE without a loader and
-/// GLCOL_STATUS_UNSUPPORTED otherwise (the GL backends are not in this build yet).
+/// failure `*out_scene` is untouched.
+///
+/// GL backends load their entry points through `desc->get_proc_address` for the context
+/// current on the calling thread, and every later GL-backed call of the scene must run
+/// with that context (or one sharing its objects) current. Every GL-backed call leaves the
+/// host's GL state as it found it (see README "GL backends") and answers
+/// GLCOL_STATUS_GL_ERROR, naming the GL error, if the GL reports one during its work.
+/// - GLCOL_BACKEND_AUTO: GLCOL_BACKEND_GL_COMPUTE on a hardware GL 4.3+ context when
+///   epsilon > 0; the CPU backend when there is no loader or no current context, on a
+///   software renderer (llvmpipe, softpipe, SwiftShader: the CPU is faster there), or when
+///   epsilon = 0 (exact answers). `glcol_scene_backend` tells which.
+/// - GLCOL_BACKEND_GL_SELECT: needs a compatibility-profile context (or GL 3.0) and 3 clip
+///   planes; GLCOL_BACKEND_GL_COMPUTE needs GL 4.3+ (core or compatibility). Otherwise, or
+///   without a loader or a current context: GLCOL_STATUS_GL_UNAVAILABLE, the message says
+///   why.
+/// - GL backends: epsilon below 2^-20 times the largest extent of the meshes in a query (0
+///   included) is raised to that minimum for the query (float clip precision).
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_create(
     desc: *const GlcolSceneDesc,
@@ -163,37 +179,27 @@ pub unsafe extern "C" fn glcol_scene_create(
             "GlcolSceneDesc",
         )?;
         let d = desc.read();
-        let backend = match d.backend {
-            0 | 1 => Backend::Cpu,
-            2 | 3 => {
-                let name = if d.backend == 2 {
-                    "GLCOL_BACKEND_GL_SELECT"
-                } else {
-                    "GLCOL_BACKEND_GL_COMPUTE"
-                };
-                if d.get_proc_address.is_none() {
-                    return Err(Fail(
-                        GlcolStatus::GlUnavailable,
-                        format!("{name} needs get_proc_address (it is NULL)"),
-                    ));
-                }
-                return Err(Fail(
-                    GlcolStatus::Unsupported,
-                    format!("{name} is not in this build of glcollide yet"),
-                ));
-            }
+        let request = match d.backend {
+            0 => Some(Request::Auto),
+            1 => None,
+            2 => Some(Request::GlSelect),
+            3 => Some(Request::GlCompute),
             v => {
                 return Err(invalid(format!(
                     "backend is {v}; it must be a GlcolBackend value (0 to 3)"
                 )))
             }
         };
-        debug_assert_eq!(backend, Backend::Cpu);
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
         };
-        let scene = Scene::new(config)?;
+        config.validate()?;
+        let selector = match request {
+            None => Box::new(CpuSelector::new()) as Box<dyn Selector>,
+            Some(r) => crate::gpu::selector_for(r, d.get_proc_address, d.user_data, d.epsilon)?,
+        };
+        let scene = Scene::with_selector(config, selector)?;
         out_scene.write(Box::into_raw(Box::new(GlcolScene {
             scene,
             contacts: Vec::new(),
@@ -202,12 +208,16 @@ pub unsafe extern "C" fn glcol_scene_create(
     })
 }
 
-/// Frees a scene and everything in it. NULL is fine. (GL backends: the scene's context
-/// must be current.) Using the pointer afterwards is undefined (not detectable).
+/// Frees a scene and everything in it. NULL is fine. GL backends: deletes the scene's GL
+/// objects, so the scene's context (or one sharing its objects) must be current; the
+/// host's GL state is left as it was. Using the pointer afterwards is undefined (not
+/// detectable).
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_destroy(scene: *mut GlcolScene) {
     if !scene.is_null() {
-        guard_or((), || drop(Box::from_raw(scene)));
+        let mut s = Box::from_raw(scene);
+        guard_or((), || s.scene.release_gl());
+        guard_or((), || drop(s));
     }
 }
 
@@ -378,10 +388,15 @@ pub unsafe extern "C" fn glcol_query(
     })
 }
 
-/// GL_COMPUTE backend only: the mesh reads its positions (xyz floats, `stride` bytes apart
-/// from `offset`) from the host's buffer object `gl_buffer` at each query, with no copy
-/// through the CPU; the host keeps ownership. Other backends answer
-/// GLCOL_STATUS_UNSUPPORTED.
+/// GL_COMPUTE backend only: from now on the mesh reads its positions from the host's GL
+/// buffer object `gl_buffer` at each query, with no copy through the CPU; the host keeps
+/// ownership and must keep the buffer alive (and `vertex_count` vertices in it) while it
+/// is bound. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
+/// `offset` and `stride` multiples of 4, stride >= 12). The positions the mesh was created
+/// with (or last given by `glcol_mesh_update_positions`, which unbinds the buffer) are not
+/// used while bound. Needs the scene's context current. Statuses: UNKNOWN_MESH,
+/// INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride, buffer too small),
+/// GL_ERROR; other backends answer GLCOL_STATUS_UNSUPPORTED.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_bind_gl_buffer(
     scene: *mut GlcolScene,
@@ -392,15 +407,7 @@ pub unsafe extern "C" fn glcol_mesh_bind_gl_buffer(
 ) -> GlcolStatus {
     guard(|| {
         let s = scene_mut(scene)?;
-        s.scene.mesh(mesh)?;
-        let _ = (gl_buffer, offset, stride);
-        Err(Fail(
-            GlcolStatus::Unsupported,
-            format!(
-                "glcol_mesh_bind_gl_buffer needs the GL_COMPUTE backend; this scene runs on {:?}",
-                s.scene.backend()
-            ),
-        ))
+        Ok(s.scene.bind_gl_buffer(mesh, gl_buffer, offset, stride)?)
     })
 }
 

@@ -1,0 +1,591 @@
+//! The GL_COMPUTE backend: the five steps as compute dispatches (GL 4.3+, core or
+//! compatibility).
+//!
+//! - Every mesh's positions live in one buffer object (an arena of xyz floats, all meshes),
+//!   uploaded when a mesh's positions change, or gathered on the GPU from the host's own
+//!   buffer object (`glcol_mesh_bind_gl_buffer`: no copy through the CPU).
+//! - Leaf boxes of buffer-bound meshes are refitted on the GPU (one thread per leaf) before
+//!   each query, and read back once (a few bytes per leaf) so the query's box bookkeeping
+//!   sees them.
+//! - Each step is one dispatch: every (volume, candidate) test of the batch, one thread
+//!   each; hits are appended through an atomic counter and read back once.
+//! - Box tests are padded (float rounding can only add pairs); the polygon viewing volume
+//!   of step 5 is clipped in double precision in a frame local to the reference polygon.
+//!   When every mesh of the query has its positions on the CPU too, each step-5 hit is
+//!   confirmed with the CPU backend's test, so the answer equals the CPU backend's; with
+//!   buffer-bound meshes the GPU's answer is final (extras within epsilon / 2 + 2^-40 of
+//!   the local size).
+
+use std::collections::BTreeMap;
+
+use glow::HasContext;
+
+use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step, ROOT};
+use crate::backend::gl_select::effective_half_depth;
+use crate::error::{Error, ErrorKind, Result};
+use crate::geom::tritri::triangles_intersect;
+use crate::geom::volume::Cell;
+use crate::geom::Aabb;
+use crate::gpu::state::{StateGuard, Uses};
+use crate::gpu::{buffer, unavailable, Gl};
+use crate::mesh::Mesh;
+
+const COMMON: &str = include_str!("../gpu/shaders/common.glsl");
+const GATHER: &str = include_str!("../gpu/shaders/gather.glsl");
+const REFIT: &str = include_str!("../gpu/shaders/refit.glsl");
+const SELECT: &str = include_str!("../gpu/shaders/select.glsl");
+
+/// Indexed buffer bindings the shaders use (0..BINDINGS).
+const BINDINGS: u32 = 10;
+const GROUP: u32 = 64;
+
+/// Where a mesh lives in the arenas.
+#[derive(Clone, Debug, PartialEq)]
+struct Slot {
+    vertex_base: u32,
+    poly_base: u32,
+    leaf_base: u32,
+    vertices: u32,
+    leaves: u32,
+    polys: u32,
+    /// `Mesh::generation` last uploaded (None: must upload).
+    uploaded: Option<u64>,
+}
+
+/// A host buffer a mesh reads its positions from.
+#[derive(Clone, Copy, Debug)]
+struct Bound {
+    buffer: u32,
+    offset: usize,
+    stride: usize,
+}
+
+struct Objects {
+    gather: glow::NativeProgram,
+    refit: glow::NativeProgram,
+    select: glow::NativeProgram,
+    /// positions (slots), polys, vols, cands, groups, hits, leaf slot ranges, slot -> vertex,
+    /// boxes
+    buffers: [glow::NativeBuffer; 9],
+}
+
+/// The GL_COMPUTE backend.
+pub struct GlComputeSelector {
+    gl: Gl,
+    obj: Option<Objects>,
+    slots: BTreeMap<u32, Slot>,
+    bound: BTreeMap<u32, Bound>,
+    /// Scratch for a batch.
+    vols: Vec<u32>,
+    cands: Vec<u32>,
+    groups: Vec<u32>,
+    raw: Vec<u8>,
+}
+
+fn bytes<T: Copy>(v: &[T]) -> &[u8] {
+    // SAFETY: plain-old-data (u32/f32) viewed as bytes.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast(), std::mem::size_of_val(v)) }
+}
+
+fn gl_err(e: String) -> Error {
+    Error::new(ErrorKind::GlError, e)
+}
+
+unsafe fn compile(g: &glow::Context, name: &str, body: &str) -> Result<glow::NativeProgram> {
+    let sh = g.create_shader(glow::COMPUTE_SHADER).map_err(gl_err)?;
+    let src = format!("{COMMON}\n#line 1 1\n{body}");
+    g.shader_source(sh, &src);
+    g.compile_shader(sh);
+    if !g.get_shader_compile_status(sh) {
+        let log = g.get_shader_info_log(sh);
+        g.delete_shader(sh);
+        return Err(Error::new(
+            ErrorKind::GlUnavailable,
+            format!("the {name} compute shader does not compile here: {log}"),
+        ));
+    }
+    let p = g.create_program().map_err(gl_err)?;
+    g.attach_shader(p, sh);
+    g.link_program(p);
+    g.detach_shader(p, sh);
+    g.delete_shader(sh);
+    if !g.get_program_link_status(p) {
+        let log = g.get_program_info_log(p);
+        g.delete_program(p);
+        return Err(Error::new(
+            ErrorKind::GlUnavailable,
+            format!("the {name} compute shader does not link here: {log}"),
+        ));
+    }
+    Ok(p)
+}
+
+impl GlComputeSelector {
+    /// Needs GL 4.3+ (compute shaders, SSBOs, double precision).
+    pub fn new(gl: Gl) -> Result<GlComputeSelector> {
+        if !gl.info.compute {
+            return Err(unavailable(format!(
+                "GLCOL_BACKEND_GL_COMPUTE needs GL 4.3 (compute shaders); the context is \"{}\"",
+                gl.info.version_string
+            )));
+        }
+        let mut s = GlComputeSelector {
+            gl,
+            obj: None,
+            slots: BTreeMap::new(),
+            bound: BTreeMap::new(),
+            vols: Vec::new(),
+            cands: Vec::new(),
+            groups: Vec::new(),
+            raw: Vec::new(),
+        };
+        let guard = StateGuard::enter(&s.gl, uses())?;
+        let g = &s.gl.gl;
+        let made = unsafe {
+            (|| -> Result<Objects> {
+                let gather = compile(g, "gather", GATHER)?;
+                let refit = compile(g, "refit", REFIT).inspect_err(|_| g.delete_program(gather))?;
+                let select = compile(g, "select", SELECT).inspect_err(|_| {
+                    g.delete_program(gather);
+                    g.delete_program(refit);
+                })?;
+                let mut buffers = Vec::new();
+                for _ in 0..9 {
+                    let b = g.create_buffer().map_err(gl_err)?;
+                    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+                    g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
+                    buffers.push(b);
+                }
+                Ok(Objects {
+                    gather,
+                    refit,
+                    select,
+                    buffers: buffers.try_into().unwrap(),
+                })
+            })()
+        };
+        let done = guard.finish();
+        let obj = made?;
+        s.obj = Some(obj);
+        if let Err(e) = done {
+            s.release();
+            return Err(e);
+        }
+        Ok(s)
+    }
+}
+
+fn uses() -> Uses {
+    Uses {
+        fixed_function: false,
+        indexed_bindings: BINDINGS,
+    }
+}
+
+const POS: usize = 0;
+const POLYS: usize = 1;
+const VOLS: usize = 2;
+const CANDS: usize = 3;
+const GROUPS: usize = 4;
+const HITS: usize = 5;
+const LEAF_RANGE: usize = 6;
+const LEAF_VERTS: usize = 7;
+const BOXES: usize = 8;
+/// Shader binding of each buffer (the host source buffer is binding 6).
+const BINDING: [u32; 9] = [0, 1, 2, 3, 4, 5, 7, 8, 9];
+
+unsafe fn upload(g: &glow::Context, b: glow::NativeBuffer, data: &[u8]) {
+    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+    if data.is_empty() {
+        g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
+    } else {
+        g.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, data, glow::DYNAMIC_DRAW);
+    }
+}
+
+unsafe fn set_u32(g: &glow::Context, p: glow::NativeProgram, name: &str, v: u32) {
+    let l = g.get_uniform_location(p, name);
+    g.uniform_1_u32(l.as_ref(), v);
+}
+
+/// Dispatches `n` threads of the bound program (2D grid when `n` is large).
+unsafe fn dispatch(g: &glow::Context, p: glow::NativeProgram, n: u32) {
+    set_u32(g, p, "u_count", n);
+    let groups = n.div_ceil(GROUP).max(1);
+    let x = groups.min(65535);
+    let y = groups.div_ceil(x);
+    g.dispatch_compute(x, y, 1);
+}
+
+impl GlComputeSelector {
+    fn objects(&self) -> &Objects {
+        self.obj.as_ref().expect("GL objects exist until release")
+    }
+
+    /// Lays every mesh out in the arenas again (meshes were added or removed).
+    unsafe fn rebuild(&mut self, meshes: &BTreeMap<u32, Mesh>) {
+        let g = &self.gl.gl;
+        let o = self.obj.as_ref().unwrap();
+        self.slots.clear();
+        let (mut vb, mut pb, mut lb) = (0u32, 0u32, 0u32);
+        let mut polys: Vec<u32> = Vec::new();
+        let mut range: Vec<u32> = Vec::new();
+        let mut verts: Vec<u32> = Vec::new();
+        for (&id, m) in meshes {
+            let k = m.k;
+            let nslots = m.slot_positions().len() as u32;
+            for p in 0..m.polygon_count() {
+                let v = m.poly(p);
+                polys.extend(v.iter().map(|&x| x + vb));
+                if k == 3 {
+                    polys.push(u32::MAX);
+                }
+            }
+            let lv = &m.leaves;
+            for l in 0..lv.len() {
+                range.extend([lv.leaf_slots[l] + vb, lv.leaf_slots[l + 1] + vb]);
+            }
+            verts.extend_from_slice(m.slot_vertices());
+            self.slots.insert(
+                id,
+                Slot {
+                    vertex_base: vb,
+                    poly_base: pb,
+                    leaf_base: lb,
+                    vertices: nslots,
+                    leaves: m.leaf_count() as u32,
+                    polys: m.polygon_count() as u32,
+                    uploaded: None,
+                },
+            );
+            vb += nslots;
+            pb += m.polygon_count() as u32;
+            lb += m.leaf_count() as u32;
+        }
+        let b = &o.buffers;
+        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[POS]));
+        g.buffer_data_size(
+            glow::SHADER_STORAGE_BUFFER,
+            (vb as i32 * 12).max(16),
+            glow::DYNAMIC_DRAW,
+        );
+        upload(g, b[POLYS], bytes(&polys));
+        upload(g, b[LEAF_RANGE], bytes(&range));
+        upload(g, b[LEAF_VERTS], bytes(&verts));
+        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[BOXES]));
+        g.buffer_data_size(
+            glow::SHADER_STORAGE_BUFFER,
+            (lb as i32 * 24).max(16),
+            glow::DYNAMIC_DRAW,
+        );
+    }
+
+    fn layout_matches(&self, meshes: &BTreeMap<u32, Mesh>) -> bool {
+        self.slots.len() == meshes.len()
+            && self.slots.iter().zip(meshes).all(|((a, s), (b, m))| {
+                a == b
+                    && s.vertices as usize == m.slot_positions().len()
+                    && s.polys as usize == m.polygon_count()
+            })
+    }
+
+    fn prepare_inner(&mut self, meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
+        unsafe {
+            if !self.layout_matches(meshes) {
+                self.rebuild(meshes);
+            }
+            let g = &self.gl.gl;
+            let o = self.obj.as_ref().unwrap();
+            for b in 0..9 {
+                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[b], Some(o.buffers[b]));
+            }
+            // CPU-side positions that changed.
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[POS]));
+            for (id, m) in meshes.iter() {
+                let s = self.slots.get_mut(id).unwrap();
+                if !self.bound.contains_key(id) && s.uploaded != Some(m.generation) {
+                    g.buffer_sub_data_u8_slice(
+                        glow::SHADER_STORAGE_BUFFER,
+                        s.vertex_base as i32 * 12,
+                        bytes(m.slot_positions()),
+                    );
+                    s.uploaded = Some(m.generation);
+                }
+            }
+            if self.bound.is_empty() {
+                return self.gl.check("uploading positions");
+            }
+            // Host buffers: gather into the arena on the GPU, refit, read the boxes back.
+            g.use_program(Some(o.gather));
+            for (id, b) in &self.bound {
+                let s = &self.slots[id];
+                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 6, buffer(b.buffer));
+                set_u32(g, o.gather, "u_src_offset", (b.offset / 4) as u32);
+                set_u32(g, o.gather, "u_src_stride", (b.stride / 4) as u32);
+                set_u32(g, o.gather, "u_dst_vertex", s.vertex_base);
+                dispatch(g, o.gather, s.vertices);
+            }
+            g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
+            g.use_program(Some(o.refit));
+            let leaves: u32 = self.slots.values().map(|s| s.leaves).sum();
+            dispatch(g, o.refit, leaves);
+            g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+            self.gl.check("refitting leaf boxes on the GPU")?;
+            let mut raw = std::mem::take(&mut self.raw);
+            raw.resize(leaves as usize * 24, 0);
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
+            g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 0, &mut raw);
+            for id in self.bound.keys() {
+                let s = &self.slots[id];
+                let m = meshes.get_mut(id).unwrap();
+                let mut root = Aabb::EMPTY;
+                for l in 0..s.leaves as usize {
+                    let at = (s.leaf_base as usize + l) * 24;
+                    let f = |k: usize| {
+                        let i = at + 4 * k;
+                        f32::from_ne_bytes([raw[i], raw[i + 1], raw[i + 2], raw[i + 3]])
+                    };
+                    let b = Aabb {
+                        min: [f(0), f(1), f(2)],
+                        max: [f(3), f(4), f(5)],
+                    };
+                    root.merge(&b);
+                    m.leaves.boxes[l] = b;
+                }
+                if (0..3).any(|k| !root.min[k].is_finite() || !root.max[k].is_finite()) {
+                    self.raw = raw;
+                    return Err(Error::new(
+                        ErrorKind::NonFinite,
+                        format!(
+                            "mesh {id}: its bound GL buffer holds a NaN or infinite coordinate"
+                        ),
+                    ));
+                }
+                m.leaves.root = root;
+            }
+            self.raw = raw;
+            self.gl.check("reading leaf boxes back")
+        }
+    }
+
+    fn select_inner(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        batch: &Batch,
+        hits: &mut Vec<Hit>,
+    ) -> Result<()> {
+        let h = effective_half_depth(q);
+        let slot = |mi: u32| &self.slots[&q.meshes[mi as usize].0];
+        let box_bits = |b: Aabb| {
+            [b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]].map(f32::to_bits)
+        };
+        let (step, total) = match batch.step {
+            Step::BoxesInBoxes => (0u32, batch.tests()),
+            Step::PolygonsInBoxes => (1, batch.tests()),
+            Step::PolygonsInPolygons => (2, batch.tests()),
+        };
+        if total > u32::MAX as usize / 2 {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!("a step asks {total} tests, more than one dispatch can take"),
+            ));
+        }
+        self.vols.clear();
+        self.cands.clear();
+        for v in &batch.volumes {
+            if step == 2 {
+                self.vols.push(slot(v.mesh).poly_base + v.index);
+            } else {
+                debug_assert!(v.index == ROOT || v.index < slot(v.mesh).leaves);
+                self.vols.extend(box_bits(q.boxed(*v)));
+            }
+        }
+        for c in &batch.candidates {
+            if step == 0 {
+                self.cands.extend(box_bits(q.boxed(*c)));
+            } else {
+                self.cands.push(slot(c.mesh).poly_base + c.index);
+            }
+        }
+        self.groups.clear();
+        let mut first = 0u32;
+        for g in &batch.groups {
+            let (vn, cn) = (g.volumes.len() as u32, g.candidates.len() as u32);
+            if vn * cn == 0 {
+                continue;
+            }
+            self.groups
+                .extend([g.volumes.start, vn, g.candidates.start, cn, first]);
+            first += vn * cn;
+        }
+        if self.groups.is_empty() {
+            return Ok(());
+        }
+        let cap = total as u32;
+        let o = self.objects();
+        let g = &self.gl.gl;
+        let n = unsafe {
+            g.use_program(Some(o.select));
+            upload(g, o.buffers[VOLS], bytes(&self.vols));
+            upload(g, o.buffers[CANDS], bytes(&self.cands));
+            upload(g, o.buffers[GROUPS], bytes(&self.groups));
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[HITS]));
+            g.buffer_data_size(
+                glow::SHADER_STORAGE_BUFFER,
+                8 + 8 * cap as i32,
+                glow::DYNAMIC_DRAW,
+            );
+            g.buffer_sub_data_u8_slice(glow::SHADER_STORAGE_BUFFER, 0, bytes(&[0u32, cap]));
+            // Every binding, each call: the guard gave the host its bindings back.
+            for b in [POS, POLYS, VOLS, CANDS, GROUPS, HITS] {
+                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[b], Some(o.buffers[b]));
+            }
+            set_u32(g, o.select, "u_step", step);
+            set_u32(g, o.select, "u_groups", self.groups.len() as u32 / 5);
+            let l = g.get_uniform_location(o.select, "u_h");
+            g.uniform_1_f32(l.as_ref(), (h * (1.0 + 1e-6)) as f32);
+            let l = g.get_uniform_location(o.select, "u_pad_rel");
+            g.uniform_1_f32(l.as_ref(), 1.0 / (1u64 << 40) as f32);
+            dispatch(g, o.select, first);
+            g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+            self.gl.check("the selection dispatch")?;
+            // One read-back: the counter, then the hits it counts.
+            let mut head = [0u8; 4];
+            g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 0, &mut head);
+            let n = u32::from_ne_bytes(head).min(cap) as usize;
+            self.raw.resize(n * 8, 0);
+            if n > 0 {
+                g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 8, &mut self.raw);
+            }
+            n
+        };
+        let start = hits.len();
+        hits.extend(self.raw[..n * 8].chunks_exact(8).map(|c| Hit {
+            volume: u32::from_ne_bytes([c[0], c[1], c[2], c[3]]),
+            candidate: u32::from_ne_bytes([c[4], c[5], c[6], c[7]]),
+        }));
+        // Step 5: confirm with the CPU's test when every position is on the CPU.
+        let cpu_positions = q.meshes.iter().all(|(id, _)| !self.bound.contains_key(id));
+        if step == 2 && cpu_positions {
+            let mut w = start;
+            for r in start..hits.len() {
+                let hit = hits[r];
+                let (v, c) = (
+                    batch.volumes[hit.volume as usize],
+                    batch.candidates[hit.candidate as usize],
+                );
+                let mut vt = [[[0.0; 3]; 3]; 2];
+                let nv = q.mesh(v).triangles(v.index as usize, &mut vt);
+                let mut ct = [[[0.0; 3]; 3]; 2];
+                let nc = q.mesh(c).triangles(c.index as usize, &mut ct);
+                let meets = (0..nv).any(|a| {
+                    let cell = Cell::of_triangle(&vt[a], h);
+                    (0..nc)
+                        .any(|b| cell.meets_triangle(&ct[b]) || triangles_intersect(&vt[a], &ct[b]))
+                });
+                if meets {
+                    hits[w] = hit;
+                    w += 1;
+                }
+            }
+            hits.truncate(w);
+        }
+        Ok(())
+    }
+}
+
+impl Selector for GlComputeSelector {
+    fn backend(&self) -> Backend {
+        Backend::GlCompute
+    }
+
+    fn prepare(&mut self, meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
+        let gl: *const Gl = &self.gl;
+        // SAFETY: the guard only reads `gl`, which prepare_inner never moves or replaces.
+        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
+        let r = self.prepare_inner(meshes);
+        let done = guard.finish();
+        r?;
+        done
+    }
+
+    fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
+        let gl: *const Gl = &self.gl;
+        // SAFETY: as in prepare.
+        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
+        let r = self.select_inner(q, batch, hits);
+        let done = guard.finish();
+        r?;
+        done
+    }
+
+    fn mesh_updated(&mut self, id: u32) {
+        self.bound.remove(&id);
+        if let Some(s) = self.slots.get_mut(&id) {
+            s.uploaded = None;
+        }
+    }
+
+    fn mesh_destroyed(&mut self, id: u32) {
+        self.bound.remove(&id);
+    }
+
+    fn bind_gl_buffer(
+        &mut self,
+        id: u32,
+        mesh: &Mesh,
+        buf: u32,
+        offset: usize,
+        stride: usize,
+    ) -> Result<()> {
+        let stride = if stride == 0 { 12 } else { stride };
+        if stride < 12 || stride % 4 != 0 || offset % 4 != 0 {
+            return Err(Error::invalid(format!(
+                "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
+            )));
+        }
+        let need = crate::mesh::Positions::byte_len(mesh.vertex_count(), stride)
+            .and_then(|n| n.checked_add(offset))
+            .ok_or_else(|| Error::invalid("offset + vertex_count * stride overflows"))?;
+        let guard = StateGuard::enter(&self.gl, uses())?;
+        let g = &self.gl.gl;
+        let size = unsafe {
+            if buf == 0 || !g.is_buffer(glow::NativeBuffer(std::num::NonZeroU32::new(buf).unwrap()))
+            {
+                None
+            } else {
+                g.bind_buffer(glow::COPY_READ_BUFFER, buffer(buf));
+                Some(g.get_buffer_parameter_i32(glow::COPY_READ_BUFFER, glow::BUFFER_SIZE))
+            }
+        };
+        guard.finish()?;
+        match size {
+            None => Err(Error::invalid(format!("gl_buffer {buf} is not a buffer object of this context"))),
+            Some(s) if (s as usize) < need => Err(Error::invalid(format!(
+                "gl_buffer {buf} holds {s} bytes; {need} are needed for {} vertices at offset {offset}, stride {stride}",
+                mesh.vertex_count()
+            ))),
+            Some(_) => {
+                self.bound.insert(id, Bound { buffer: buf, offset, stride });
+                Ok(())
+            }
+        }
+    }
+
+    fn release(&mut self) {
+        if let Some(o) = self.obj.take() {
+            if let Ok(guard) = StateGuard::enter(&self.gl, uses()) {
+                unsafe {
+                    let g = &self.gl.gl;
+                    g.delete_program(o.gather);
+                    g.delete_program(o.refit);
+                    g.delete_program(o.select);
+                    for b in o.buffers {
+                        g.delete_buffer(b);
+                    }
+                }
+                let _ = guard.finish();
+            }
+        }
+    }
+}

@@ -1,0 +1,452 @@
+//! The one place where GL state is saved and restored.
+//!
+//! [`StateGuard::enter`] takes the host's pending GL error (kept, not ours), saves every
+//! piece of state a backend may change, and its `Drop` (or [`StateGuard::finish`]) puts
+//! all of it back, so even a panic caught at the C boundary leaves the host's state as it
+//! was. Saved and restored:
+//! - bound program, vertex array, renderbuffer, draw and read framebuffers;
+//! - buffer bindings: array, element array, pixel pack/unpack, uniform, copy read/write,
+//!   shader storage, atomic counter and dispatch-indirect (generic), and the indexed shader
+//!   storage / atomic counter / uniform bindings `0..Uses::indexed_bindings` (buffer,
+//!   start, size);
+//! - viewport, scissor box, polygon mode;
+//! - enables: depth test, blend, cull face, scissor test, stencil test, rasterizer discard,
+//!   primitive restart, sRGB, polygon offset fill, depth clamp, multisample, and every
+//!   user clip plane / clip distance;
+//! - pixel store: pack/unpack alignment, row length, skip pixels/rows, image height;
+//! - compatibility contexts: matrix mode, projection and modelview matrices (the stacks'
+//!   depths are never changed), render mode, selection buffer pointer and size, the name
+//!   stack (restored by popping exactly what was pushed), clip-plane equations.
+//!
+//! A host error pending on entry (say GL_INVALID_ENUM) does not fail our call; it is raised
+//! again on exit when it can be (GL_INVALID_ENUM, GL_INVALID_VALUE, GL_INVALID_OPERATION),
+//! so the host's next glGetError still sees it.
+
+use glow::HasContext;
+
+use super::{buffer, framebuffer, program, renderbuffer, vertex_array, Gl};
+use crate::error::{Error, ErrorKind, Result};
+
+/// What a backend will touch beyond the common state.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Uses {
+    /// Fixed-function state (matrices, render mode, selection buffer, clip planes).
+    pub fixed_function: bool,
+    /// Indexed buffer bindings `0..n` of the shader storage, atomic counter and uniform
+    /// targets.
+    pub indexed_bindings: u32,
+}
+
+const MAX_CLIP: u32 = 8;
+
+struct FixedFunction {
+    matrix_mode: i32,
+    projection: [f64; 16],
+    modelview: [f64; 16],
+    select_ptr: *mut u32,
+    select_size: i32,
+    name_depth: i32,
+    clip_planes: Vec<[f64; 4]>,
+}
+
+struct Indexed {
+    target: u32,
+    index: u32,
+    buffer: u32,
+    start: i64,
+    size: i64,
+}
+
+struct Saved {
+    program: u32,
+    vao: Option<u32>,
+    generic: Vec<(u32, u32)>,
+    indexed: Vec<Indexed>,
+    draw_fb: u32,
+    read_fb: u32,
+    renderbuffer: u32,
+    viewport: [i32; 4],
+    scissor: [i32; 4],
+    polygon_mode: [i32; 2],
+    enables: Vec<(u32, bool)>,
+    pixel_store: Vec<(u32, i32)>,
+    ff: Option<FixedFunction>,
+}
+
+/// Saves the host's state on entry, restores it on drop.
+pub struct StateGuard<'a> {
+    gl: &'a Gl,
+    saved: Option<Saved>,
+    host_error: u32,
+    restored: bool,
+}
+
+const IDENTITY: [f64; 16] = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+];
+
+impl<'a> StateGuard<'a> {
+    /// Takes the host's pending error and saves the state `uses` says will be touched.
+    /// Fails (changing nothing) when a compatibility context is in GL_SELECT or
+    /// GL_FEEDBACK render mode, which no call could undo exactly.
+    pub fn enter(gl: &'a Gl, uses: Uses) -> Result<StateGuard<'a>> {
+        let g = &gl.gl;
+        let mut host_error = glow::NO_ERROR;
+        unsafe {
+            for _ in 0..8 {
+                let e = g.get_error();
+                if e == glow::NO_ERROR {
+                    break;
+                }
+                if host_error == glow::NO_ERROR {
+                    host_error = e;
+                }
+            }
+        }
+        let mut guard = StateGuard {
+            gl,
+            saved: None,
+            host_error,
+            restored: false,
+        };
+        let saved = unsafe { save(gl, uses) };
+        match saved {
+            Ok(s) => {
+                guard.saved = Some(s);
+                Ok(guard)
+            }
+            Err(e) => Err(e), // guard drops: re-raises the host's error, restores nothing.
+        }
+    }
+
+    /// Restores the host's state; `Err(GL_ERROR)` if the GL reported an error of ours
+    /// (during the work or the restore).
+    pub fn finish(mut self) -> Result<()> {
+        let r = self.gl.check("glcollide's GL work");
+        self.restore();
+        r
+    }
+
+    fn restore(&mut self) {
+        if std::mem::replace(&mut self.restored, true) {
+            return;
+        }
+        if let Some(s) = self.saved.take() {
+            unsafe { restore(self.gl, &s) };
+        }
+        unsafe {
+            // Our errors were reported (finish) or superseded by the failure in flight.
+            for _ in 0..8 {
+                if self.gl.gl.get_error() == glow::NO_ERROR {
+                    break;
+                }
+            }
+            reraise(&self.gl.gl, self.host_error);
+        }
+        self.host_error = glow::NO_ERROR;
+    }
+}
+
+impl Drop for StateGuard<'_> {
+    fn drop(&mut self) {
+        self.restore();
+    }
+}
+
+unsafe fn reraise(g: &glow::Context, e: u32) {
+    match e {
+        glow::INVALID_ENUM => g.enable(0),
+        glow::INVALID_VALUE => g.viewport(0, 0, -1, -1),
+        glow::INVALID_OPERATION => g.bind_vertex_array(vertex_array(0xFFFF_FFF0)),
+        _ => {}
+    }
+}
+
+fn at_least(gl: &Gl, v: (u32, u32)) -> bool {
+    gl.info.version >= v
+}
+
+/// Generic buffer binding queries and their targets, for the context's version.
+fn generic_targets(gl: &Gl) -> Vec<(u32, u32)> {
+    let mut t = vec![
+        (glow::ARRAY_BUFFER_BINDING, glow::ARRAY_BUFFER),
+        (
+            glow::ELEMENT_ARRAY_BUFFER_BINDING,
+            glow::ELEMENT_ARRAY_BUFFER,
+        ),
+        (glow::PIXEL_PACK_BUFFER_BINDING, glow::PIXEL_PACK_BUFFER),
+        (glow::PIXEL_UNPACK_BUFFER_BINDING, glow::PIXEL_UNPACK_BUFFER),
+    ];
+    if at_least(gl, (3, 1)) {
+        t.push((glow::UNIFORM_BUFFER_BINDING, glow::UNIFORM_BUFFER));
+        t.push((glow::COPY_READ_BUFFER_BINDING, glow::COPY_READ_BUFFER));
+        t.push((glow::COPY_WRITE_BUFFER_BINDING, glow::COPY_WRITE_BUFFER));
+    }
+    if at_least(gl, (4, 2)) {
+        t.push((
+            glow::ATOMIC_COUNTER_BUFFER_BINDING,
+            glow::ATOMIC_COUNTER_BUFFER,
+        ));
+    }
+    if at_least(gl, (4, 3)) {
+        t.push((
+            glow::SHADER_STORAGE_BUFFER_BINDING,
+            glow::SHADER_STORAGE_BUFFER,
+        ));
+        t.push((
+            glow::DISPATCH_INDIRECT_BUFFER_BINDING,
+            glow::DISPATCH_INDIRECT_BUFFER,
+        ));
+    }
+    t
+}
+
+/// Indexed targets: (target, binding query, start query, size query).
+fn indexed_targets(gl: &Gl) -> Vec<(u32, u32, u32, u32)> {
+    let mut t = Vec::new();
+    if at_least(gl, (3, 1)) {
+        t.push((
+            glow::UNIFORM_BUFFER,
+            glow::UNIFORM_BUFFER_BINDING,
+            glow::UNIFORM_BUFFER_START,
+            glow::UNIFORM_BUFFER_SIZE,
+        ));
+    }
+    if at_least(gl, (4, 2)) {
+        t.push((
+            glow::ATOMIC_COUNTER_BUFFER,
+            glow::ATOMIC_COUNTER_BUFFER_BINDING,
+            glow::ATOMIC_COUNTER_BUFFER_START,
+            glow::ATOMIC_COUNTER_BUFFER_SIZE,
+        ));
+    }
+    if at_least(gl, (4, 3)) {
+        t.push((
+            glow::SHADER_STORAGE_BUFFER,
+            glow::SHADER_STORAGE_BUFFER_BINDING,
+            glow::SHADER_STORAGE_BUFFER_START,
+            glow::SHADER_STORAGE_BUFFER_SIZE,
+        ));
+    }
+    t
+}
+
+/// The enables we save (and may change), for the context's version.
+pub fn enable_caps(gl: &Gl) -> Vec<u32> {
+    let mut c = vec![
+        glow::DEPTH_TEST,
+        glow::BLEND,
+        glow::CULL_FACE,
+        glow::SCISSOR_TEST,
+        glow::STENCIL_TEST,
+        glow::POLYGON_OFFSET_FILL,
+        glow::MULTISAMPLE,
+    ];
+    if at_least(gl, (3, 0)) {
+        c.push(glow::RASTERIZER_DISCARD);
+        c.push(glow::FRAMEBUFFER_SRGB);
+    }
+    if at_least(gl, (3, 1)) {
+        c.push(glow::PRIMITIVE_RESTART);
+    }
+    if at_least(gl, (3, 2)) {
+        c.push(glow::DEPTH_CLAMP);
+    }
+    let n = clip_planes(gl);
+    c.extend((0..n).map(|i| glow::CLIP_DISTANCE0 + i));
+    c
+}
+
+/// User clip planes / clip distances saved (at most 8).
+pub fn clip_planes(gl: &Gl) -> u32 {
+    let n = unsafe { gl.gl.get_parameter_i32(glow::MAX_CLIP_DISTANCES) };
+    (n.max(0) as u32).min(MAX_CLIP)
+}
+
+const PIXEL_STORE: [u32; 10] = [
+    glow::PACK_ALIGNMENT,
+    glow::UNPACK_ALIGNMENT,
+    glow::PACK_ROW_LENGTH,
+    glow::UNPACK_ROW_LENGTH,
+    glow::PACK_SKIP_PIXELS,
+    glow::UNPACK_SKIP_PIXELS,
+    glow::PACK_SKIP_ROWS,
+    glow::UNPACK_SKIP_ROWS,
+    glow::PACK_IMAGE_HEIGHT,
+    glow::UNPACK_IMAGE_HEIGHT,
+];
+
+const RENDER_MODE: u32 = 0x0C40;
+const RENDER: u32 = 0x1C00;
+const SELECTION_BUFFER_POINTER: u32 = 0x0DF3;
+const SELECTION_BUFFER_SIZE: u32 = 0x0DF4;
+const NAME_STACK_DEPTH: u32 = 0x0D70;
+const MATRIX_MODE: u32 = 0x0BA0;
+const MODELVIEW: u32 = 0x1700;
+const PROJECTION: u32 = 0x1701;
+const MODELVIEW_MATRIX: u32 = 0x0BA6;
+const PROJECTION_MATRIX: u32 = 0x0BA7;
+
+unsafe fn save(gl: &Gl, uses: Uses) -> Result<Saved> {
+    let g = &gl.gl;
+    let i = |p: u32| g.get_parameter_i32(p);
+    let ff = if uses.fixed_function {
+        let f = gl.ff();
+        let mut mode = 0;
+        f.GetIntegerv(RENDER_MODE, &mut mode);
+        if mode as u32 != RENDER {
+            return Err(Error::new(
+                ErrorKind::GlUnavailable,
+                "the context is in GL_SELECT or GL_FEEDBACK render mode; call glcollide in GL_RENDER mode",
+            ));
+        }
+        let mut projection = [0.0; 16];
+        let mut modelview = [0.0; 16];
+        f.GetDoublev(PROJECTION_MATRIX, projection.as_mut_ptr());
+        f.GetDoublev(MODELVIEW_MATRIX, modelview.as_mut_ptr());
+        let mut ptr: *mut std::ffi::c_void = std::ptr::null_mut();
+        f.GetPointerv(SELECTION_BUFFER_POINTER, &mut ptr);
+        let clip_planes = (0..clip_planes(gl))
+            .map(|k| {
+                let mut eq = [0.0; 4];
+                f.GetClipPlane(glow::CLIP_DISTANCE0 + k, eq.as_mut_ptr());
+                eq
+            })
+            .collect();
+        Some(FixedFunction {
+            matrix_mode: i(MATRIX_MODE),
+            projection,
+            modelview,
+            select_ptr: ptr.cast(),
+            select_size: i(SELECTION_BUFFER_SIZE),
+            name_depth: i(NAME_STACK_DEPTH),
+            clip_planes,
+        })
+    } else {
+        None
+    };
+    let mut indexed = Vec::new();
+    for (target, b, s, z) in indexed_targets(gl) {
+        for index in 0..uses.indexed_bindings {
+            indexed.push(Indexed {
+                target,
+                index,
+                buffer: g.get_parameter_indexed_i32(b, index) as u32,
+                start: g.get_parameter_indexed_i64(s, index),
+                size: g.get_parameter_indexed_i64(z, index),
+            });
+        }
+    }
+    let mut viewport = [0; 4];
+    g.get_parameter_i32_slice(glow::VIEWPORT, &mut viewport);
+    let mut scissor = [0; 4];
+    g.get_parameter_i32_slice(glow::SCISSOR_BOX, &mut scissor);
+    let mut polygon_mode = [glow::FILL as i32; 2];
+    g.get_parameter_i32_slice(
+        glow::POLYGON_MODE,
+        &mut polygon_mode[..if gl.info.core_profile { 1 } else { 2 }],
+    );
+    if gl.info.core_profile {
+        polygon_mode[1] = polygon_mode[0];
+    }
+    let s = Saved {
+        program: i(glow::CURRENT_PROGRAM) as u32,
+        vao: at_least(gl, (3, 0)).then(|| i(glow::VERTEX_ARRAY_BINDING) as u32),
+        generic: generic_targets(gl)
+            .into_iter()
+            .map(|(q, t)| (t, i(q) as u32))
+            .collect(),
+        indexed,
+        draw_fb: i(glow::DRAW_FRAMEBUFFER_BINDING) as u32,
+        read_fb: i(glow::READ_FRAMEBUFFER_BINDING) as u32,
+        renderbuffer: i(glow::RENDERBUFFER_BINDING) as u32,
+        viewport,
+        scissor,
+        polygon_mode,
+        enables: enable_caps(gl)
+            .into_iter()
+            .map(|c| (c, g.is_enabled(c)))
+            .collect(),
+        pixel_store: PIXEL_STORE.iter().map(|&p| (p, i(p))).collect(),
+        ff,
+    };
+    // Queries of this version's state cannot fail; if one did, the context is not what its
+    // version says: report it rather than restore garbage.
+    gl.check("saving the host's GL state")?;
+    Ok(s)
+}
+
+unsafe fn restore(gl: &Gl, s: &Saved) {
+    let g = &gl.gl;
+    if let Some(ff) = &s.ff {
+        let f = gl.ff();
+        let mut mode = 0;
+        f.GetIntegerv(RENDER_MODE, &mut mode);
+        if mode as u32 != RENDER {
+            // Interrupted mid-selection: pop our names, leave selection mode.
+            let mut depth = 0;
+            f.GetIntegerv(NAME_STACK_DEPTH, &mut depth);
+            while depth > ff.name_depth {
+                f.PopName();
+                depth -= 1;
+            }
+            f.RenderMode(RENDER);
+        }
+        f.SelectBuffer(ff.select_size, ff.select_ptr);
+        // Clip-plane equations are stored in eye coordinates: give them back under an
+        // identity modelview so they are stored unchanged.
+        f.MatrixMode(MODELVIEW);
+        f.LoadMatrixd(IDENTITY.as_ptr());
+        for (k, eq) in ff.clip_planes.iter().enumerate() {
+            f.ClipPlane(glow::CLIP_DISTANCE0 + k as u32, eq.as_ptr());
+        }
+        f.LoadMatrixd(ff.modelview.as_ptr());
+        f.MatrixMode(PROJECTION);
+        f.LoadMatrixd(ff.projection.as_ptr());
+        f.MatrixMode(ff.matrix_mode as u32);
+    }
+    for &(cap, on) in &s.enables {
+        if on {
+            g.enable(cap)
+        } else {
+            g.disable(cap)
+        }
+    }
+    if gl.info.core_profile {
+        g.polygon_mode(glow::FRONT_AND_BACK, s.polygon_mode[0] as u32);
+    } else {
+        g.polygon_mode(glow::FRONT, s.polygon_mode[0] as u32);
+        g.polygon_mode(glow::BACK, s.polygon_mode[1] as u32);
+    }
+    g.use_program(program(s.program));
+    if let Some(v) = s.vao {
+        g.bind_vertex_array(vertex_array(v));
+    }
+    // Indexed first: binding an indexed point also sets the generic one.
+    for x in &s.indexed {
+        if x.buffer == 0 || x.size == 0 {
+            g.bind_buffer_base(x.target, x.index, buffer(x.buffer));
+        } else {
+            g.bind_buffer_range(
+                x.target,
+                x.index,
+                buffer(x.buffer),
+                x.start as i32,
+                x.size as i32,
+            );
+        }
+    }
+    for &(target, b) in &s.generic {
+        g.bind_buffer(target, buffer(b));
+    }
+    g.bind_framebuffer(glow::DRAW_FRAMEBUFFER, framebuffer(s.draw_fb));
+    g.bind_framebuffer(glow::READ_FRAMEBUFFER, framebuffer(s.read_fb));
+    g.bind_renderbuffer(glow::RENDERBUFFER, renderbuffer(s.renderbuffer));
+    let v = s.viewport;
+    g.viewport(v[0], v[1], v[2], v[3]);
+    let c = s.scissor;
+    g.scissor(c[0], c[1], c[2], c[3]);
+    for &(p, v) in &s.pixel_store {
+        g.pixel_store_i32(p, v);
+    }
+}

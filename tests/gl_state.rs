@@ -1,0 +1,396 @@
+//! Host etiquette: a host with plenty of non-default GL state calls every GL-backed
+//! function; a long list of state is snapshotted before and after each call and must not
+//! change. A GL error the host left pending must not fail our call and must still be
+//! pending after it. Runs in a compatibility context (GL_SELECT and GL_COMPUTE) and in a
+//! core 4.5 context (GL_COMPUTE).
+mod common;
+mod gl_support;
+
+use std::ffi::c_void;
+
+use common::{place, shared_mesh, TestMesh};
+use gl_support::*;
+use glcollide::ffi::*;
+use glow::HasContext;
+
+type Snapshot = Vec<(String, Vec<f64>)>;
+
+const INDEXED: u32 = 16;
+
+fn snapshot(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Snapshot {
+    let mut s: Snapshot = Vec::new();
+    unsafe {
+        let mut ints = |name: &str, p: u32, n: usize| {
+            let mut v = vec![0i32; n];
+            g.get_parameter_i32_slice(p, &mut v);
+            s.push((name.to_string(), v.iter().map(|&x| x as f64).collect()));
+        };
+        for (name, p) in [
+            ("CURRENT_PROGRAM", glow::CURRENT_PROGRAM),
+            ("VERTEX_ARRAY_BINDING", glow::VERTEX_ARRAY_BINDING),
+            ("ARRAY_BUFFER_BINDING", glow::ARRAY_BUFFER_BINDING),
+            (
+                "ELEMENT_ARRAY_BUFFER_BINDING",
+                glow::ELEMENT_ARRAY_BUFFER_BINDING,
+            ),
+            ("PIXEL_PACK_BUFFER_BINDING", glow::PIXEL_PACK_BUFFER_BINDING),
+            (
+                "PIXEL_UNPACK_BUFFER_BINDING",
+                glow::PIXEL_UNPACK_BUFFER_BINDING,
+            ),
+            ("UNIFORM_BUFFER_BINDING", glow::UNIFORM_BUFFER_BINDING),
+            ("COPY_READ_BUFFER_BINDING", glow::COPY_READ_BUFFER_BINDING),
+            ("COPY_WRITE_BUFFER_BINDING", glow::COPY_WRITE_BUFFER_BINDING),
+            (
+                "ATOMIC_COUNTER_BUFFER_BINDING",
+                glow::ATOMIC_COUNTER_BUFFER_BINDING,
+            ),
+            (
+                "SHADER_STORAGE_BUFFER_BINDING",
+                glow::SHADER_STORAGE_BUFFER_BINDING,
+            ),
+            (
+                "DISPATCH_INDIRECT_BUFFER_BINDING",
+                glow::DISPATCH_INDIRECT_BUFFER_BINDING,
+            ),
+            (
+                "DRAW_INDIRECT_BUFFER_BINDING",
+                glow::DRAW_INDIRECT_BUFFER_BINDING,
+            ),
+            (
+                "TRANSFORM_FEEDBACK_BUFFER_BINDING",
+                glow::TRANSFORM_FEEDBACK_BUFFER_BINDING,
+            ),
+            ("DRAW_FRAMEBUFFER_BINDING", glow::DRAW_FRAMEBUFFER_BINDING),
+            ("READ_FRAMEBUFFER_BINDING", glow::READ_FRAMEBUFFER_BINDING),
+            ("RENDERBUFFER_BINDING", glow::RENDERBUFFER_BINDING),
+            ("ACTIVE_TEXTURE", glow::ACTIVE_TEXTURE),
+            ("TEXTURE_BINDING_2D", glow::TEXTURE_BINDING_2D),
+            ("DEPTH_WRITEMASK", glow::DEPTH_WRITEMASK),
+            ("DEPTH_FUNC", glow::DEPTH_FUNC),
+            ("CULL_FACE_MODE", glow::CULL_FACE_MODE),
+            ("FRONT_FACE", glow::FRONT_FACE),
+            ("BLEND_SRC_RGB", glow::BLEND_SRC_RGB),
+            ("BLEND_DST_RGB", glow::BLEND_DST_RGB),
+            ("STENCIL_FUNC", glow::STENCIL_FUNC),
+            ("STENCIL_WRITEMASK", glow::STENCIL_WRITEMASK),
+            ("PROVOKING_VERTEX", glow::PROVOKING_VERTEX),
+            ("PACK_ALIGNMENT", glow::PACK_ALIGNMENT),
+            ("UNPACK_ALIGNMENT", glow::UNPACK_ALIGNMENT),
+            ("PACK_ROW_LENGTH", glow::PACK_ROW_LENGTH),
+            ("UNPACK_ROW_LENGTH", glow::UNPACK_ROW_LENGTH),
+            ("PACK_SKIP_PIXELS", glow::PACK_SKIP_PIXELS),
+            ("UNPACK_SKIP_ROWS", glow::UNPACK_SKIP_ROWS),
+            ("UNPACK_IMAGE_HEIGHT", glow::UNPACK_IMAGE_HEIGHT),
+            ("PATCH_VERTICES", glow::PATCH_VERTICES),
+        ] {
+            ints(name, p, 1);
+        }
+        ints("VIEWPORT", glow::VIEWPORT, 4);
+        ints("SCISSOR_BOX", glow::SCISSOR_BOX, 4);
+        ints("COLOR_WRITEMASK", glow::COLOR_WRITEMASK, 4);
+        ints(
+            "POLYGON_MODE",
+            glow::POLYGON_MODE,
+            if profile == Profile::Core { 1 } else { 2 },
+        );
+        let mut f = vec![0f32; 4];
+        g.get_parameter_f32_slice(glow::COLOR_CLEAR_VALUE, &mut f);
+        s.push((
+            "COLOR_CLEAR_VALUE".into(),
+            f.iter().map(|&x| x as f64).collect(),
+        ));
+        s.push((
+            "LINE_WIDTH".into(),
+            vec![g.get_parameter_f32(glow::LINE_WIDTH) as f64],
+        ));
+        s.push((
+            "POINT_SIZE".into(),
+            vec![g.get_parameter_f32(glow::POINT_SIZE) as f64],
+        ));
+        for (name, cap) in [
+            ("DEPTH_TEST", glow::DEPTH_TEST),
+            ("BLEND", glow::BLEND),
+            ("CULL_FACE", glow::CULL_FACE),
+            ("SCISSOR_TEST", glow::SCISSOR_TEST),
+            ("STENCIL_TEST", glow::STENCIL_TEST),
+            ("RASTERIZER_DISCARD", glow::RASTERIZER_DISCARD),
+            ("PRIMITIVE_RESTART", glow::PRIMITIVE_RESTART),
+            ("FRAMEBUFFER_SRGB", glow::FRAMEBUFFER_SRGB),
+            ("POLYGON_OFFSET_FILL", glow::POLYGON_OFFSET_FILL),
+            ("DEPTH_CLAMP", glow::DEPTH_CLAMP),
+            ("MULTISAMPLE", glow::MULTISAMPLE),
+            ("PROGRAM_POINT_SIZE", glow::PROGRAM_POINT_SIZE),
+            ("DEBUG_OUTPUT", glow::DEBUG_OUTPUT),
+        ] {
+            s.push((name.into(), vec![g.is_enabled(cap) as u8 as f64]));
+        }
+        for k in 0..8 {
+            s.push((
+                format!("CLIP_DISTANCE{k}"),
+                vec![g.is_enabled(glow::CLIP_DISTANCE0 + k) as u8 as f64],
+            ));
+        }
+        for (target, b, st, sz) in [
+            (
+                "SSBO",
+                glow::SHADER_STORAGE_BUFFER_BINDING,
+                glow::SHADER_STORAGE_BUFFER_START,
+                glow::SHADER_STORAGE_BUFFER_SIZE,
+            ),
+            (
+                "UBO",
+                glow::UNIFORM_BUFFER_BINDING,
+                glow::UNIFORM_BUFFER_START,
+                glow::UNIFORM_BUFFER_SIZE,
+            ),
+            (
+                "ACB",
+                glow::ATOMIC_COUNTER_BUFFER_BINDING,
+                glow::ATOMIC_COUNTER_BUFFER_START,
+                glow::ATOMIC_COUNTER_BUFFER_SIZE,
+            ),
+        ] {
+            for i in 0..INDEXED.min(8) {
+                s.push((
+                    format!("{target}[{i}]"),
+                    vec![
+                        g.get_parameter_indexed_i32(b, i) as f64,
+                        g.get_parameter_indexed_i64(st, i) as f64,
+                        g.get_parameter_indexed_i64(sz, i) as f64,
+                    ],
+                ));
+            }
+        }
+        if profile == Profile::Compat {
+            let c = ctx.compat();
+            let mut i1 = |name: &str, p: u32| {
+                let mut v = 0;
+                c.GetIntegerv(p, &mut v);
+                s.push((name.into(), vec![v as f64]));
+            };
+            i1("MATRIX_MODE", 0x0BA0);
+            i1("MODELVIEW_STACK_DEPTH", 0x0BA3);
+            i1("PROJECTION_STACK_DEPTH", 0x0BA4);
+            i1("TEXTURE_STACK_DEPTH", 0x0BA5);
+            i1("RENDER_MODE", 0x0C40);
+            i1("SELECTION_BUFFER_SIZE", 0x0DF4);
+            i1("NAME_STACK_DEPTH", 0x0D70);
+            i1("SHADE_MODEL", 0x0B54);
+            i1("LIGHTING", 0x0B50);
+            i1("TEXTURE_2D", 0x0DE1);
+            let mut p: *mut c_void = std::ptr::null_mut();
+            c.GetPointerv(0x0DF3, &mut p);
+            s.push(("SELECTION_BUFFER_POINTER".into(), vec![p as usize as f64]));
+            for (name, q) in [
+                ("MODELVIEW_MATRIX", 0x0BA6),
+                ("PROJECTION_MATRIX", 0x0BA7),
+                ("TEXTURE_MATRIX", 0x0BA8),
+                ("CURRENT_COLOR", 0x0B00),
+            ] {
+                let mut m = [0f64; 16];
+                c.GetDoublev(q, m.as_mut_ptr());
+                s.push((name.into(), m.to_vec()));
+            }
+            for k in 0..6 {
+                let mut eq = [0f64; 4];
+                c.GetClipPlane(glow::CLIP_DISTANCE0 + k, eq.as_mut_ptr());
+                s.push((format!("CLIP_PLANE{k}"), eq.to_vec()));
+            }
+        }
+    }
+    s
+}
+
+/// Sets plenty of non-default state, as a busy host would have mid-frame.
+fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
+    unsafe {
+        let vs = g.create_shader(glow::VERTEX_SHADER).unwrap();
+        g.shader_source(vs, "#version 330 core\nlayout(location=0) in vec3 p; void main(){gl_Position=vec4(p,1.0);}");
+        g.compile_shader(vs);
+        let fs = g.create_shader(glow::FRAGMENT_SHADER).unwrap();
+        g.shader_source(
+            fs,
+            "#version 330 core\nout vec4 c; void main(){c=vec4(1.0);}",
+        );
+        g.compile_shader(fs);
+        let prog = g.create_program().unwrap();
+        g.attach_shader(prog, vs);
+        g.attach_shader(prog, fs);
+        g.link_program(prog);
+        assert!(g.get_program_link_status(prog));
+        g.use_program(Some(prog));
+        let vao = g.create_vertex_array().unwrap();
+        g.bind_vertex_array(Some(vao));
+        let bufs: Vec<_> = (0..8).map(|_| g.create_buffer().unwrap()).collect();
+        for (i, b) in bufs.iter().enumerate() {
+            g.bind_buffer(glow::COPY_WRITE_BUFFER, Some(*b));
+            g.buffer_data_size(glow::COPY_WRITE_BUFFER, 4096, glow::STATIC_DRAW);
+            let _ = i;
+        }
+        g.bind_buffer(glow::ARRAY_BUFFER, Some(bufs[0]));
+        g.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(bufs[1]));
+        g.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(bufs[2]));
+        g.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, 0, Some(bufs[3]), 256, 512);
+        g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 5, Some(bufs[4]));
+        g.bind_buffer_base(glow::UNIFORM_BUFFER, 2, Some(bufs[5]));
+        g.bind_buffer_range(glow::ATOMIC_COUNTER_BUFFER, 1, Some(bufs[6]), 0, 64);
+        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(bufs[7]));
+        g.bind_buffer(glow::COPY_READ_BUFFER, Some(bufs[2]));
+        g.bind_buffer(glow::COPY_WRITE_BUFFER, Some(bufs[5]));
+        let rb = g.create_renderbuffer().unwrap();
+        g.bind_renderbuffer(glow::RENDERBUFFER, Some(rb));
+        g.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, 64, 64);
+        let fb = g.create_framebuffer().unwrap();
+        g.bind_framebuffer(glow::FRAMEBUFFER, Some(fb));
+        g.framebuffer_renderbuffer(
+            glow::FRAMEBUFFER,
+            glow::COLOR_ATTACHMENT0,
+            glow::RENDERBUFFER,
+            Some(rb),
+        );
+        let fb2 = g.create_framebuffer().unwrap();
+        g.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(fb2));
+        g.viewport(3, 4, 50, 60);
+        g.scissor(1, 2, 30, 40);
+        for cap in [
+            glow::DEPTH_TEST,
+            glow::BLEND,
+            glow::CULL_FACE,
+            glow::SCISSOR_TEST,
+            glow::RASTERIZER_DISCARD,
+            glow::DEPTH_CLAMP,
+            glow::CLIP_DISTANCE1,
+            glow::CLIP_DISTANCE4,
+            glow::PRIMITIVE_RESTART,
+        ] {
+            g.enable(cap);
+        }
+        g.disable(glow::MULTISAMPLE);
+        g.polygon_mode(glow::FRONT_AND_BACK, glow::LINE);
+        g.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+        g.pixel_store_i32(glow::UNPACK_ALIGNMENT, 2);
+        g.pixel_store_i32(glow::UNPACK_ROW_LENGTH, 7);
+        g.depth_func(glow::GREATER);
+        g.clear_color(0.1, 0.2, 0.3, 0.4);
+        if profile == Profile::Compat {
+            let c = ctx.compat();
+            c.MatrixMode(0x1701);
+            c.LoadIdentity();
+            c.Ortho(-2.0, 3.0, -4.0, 5.0, -6.0, 7.0);
+            c.MatrixMode(0x1700);
+            c.LoadIdentity();
+            c.Translated(1.0, 2.0, 3.0);
+            c.PushMatrix();
+            c.Rotated(30.0, 0.0, 0.0, 1.0);
+            c.ClipPlane(glow::CLIP_DISTANCE0, [1.0, 2.0, 3.0, 4.0].as_ptr());
+            c.ClipPlane(glow::CLIP_DISTANCE2, [0.0, -1.0, 0.5, 9.0].as_ptr());
+            c.MatrixMode(0x1702); // TEXTURE
+            let buf: &'static mut [u32] = Box::leak(vec![0u32; 64].into_boxed_slice());
+            c.SelectBuffer(64, buf.as_mut_ptr());
+            c.Color4f(0.5, 0.25, 0.125, 1.0);
+        }
+        assert_eq!(g.get_error(), glow::NO_ERROR);
+        bufs.iter().map(|b| b.0.get()).collect()
+    }
+}
+
+fn compare(what: &str, a: &Snapshot, b: &Snapshot) {
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        assert_eq!(x, y, "{what} changed {}", x.0);
+    }
+}
+
+fn run(profile: Profile, backend: GlcolBackend) {
+    let ctx = Ctx::new(profile);
+    let g = ctx.glow();
+    let host_bufs = busy_host(&ctx, &g, profile);
+    let blade = TestMesh::from_obj(&shared_mesh("scissors_blade"));
+    let organ = TestMesh::from_obj(&shared_mesh("teapot"));
+    let (lo, hi) = common::bounds(&organ.pos);
+    let bp = place(
+        &blade.pos,
+        [hi[0], (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0],
+        1.0,
+    );
+    let mut check = |what: &str, f: &mut dyn FnMut()| {
+        let before = snapshot(&ctx, &g, profile);
+        f();
+        let after = snapshot(&ctx, &g, profile);
+        compare(what, &before, &after);
+        assert_eq!(
+            unsafe { g.get_error() },
+            glow::NO_ERROR,
+            "{what} left a GL error"
+        );
+    };
+    let mut s = std::ptr::null_mut();
+    check("glcol_scene_create", &mut || s = scene(backend, 0.01, 0));
+    let (mut o, mut b) = (0, 0);
+    check("glcol_mesh_create", &mut || {
+        o = add_mesh(s, &organ.pos, &organ.idx, 3);
+        b = add_mesh(s, &bp, &blade.idx, 3);
+    });
+    check("glcol_mesh_update_positions", &mut || update(s, b, &bp));
+    let mut n = 0;
+    check("glcol_query", &mut || n = query(s, b).len());
+    assert!(n > 0, "the scene should collide");
+    check("glcol_query again", &mut || {
+        assert_eq!(query(s, b).len(), n)
+    });
+    if backend == GlcolBackend::GlCompute {
+        // The host's buffer 0 holds the teapot's positions from here on.
+        unsafe {
+            g.bind_buffer(
+                glow::COPY_WRITE_BUFFER,
+                glcollide::gpu::buffer(host_bufs[0]),
+            );
+        }
+        let data: Vec<f32> = organ.pos.iter().flatten().copied().collect();
+        unsafe {
+            let bytes = std::slice::from_raw_parts(data.as_ptr().cast::<u8>(), data.len() * 4);
+            g.buffer_data_u8_slice(glow::COPY_WRITE_BUFFER, bytes, glow::STATIC_DRAW);
+            g.bind_buffer(
+                glow::COPY_WRITE_BUFFER,
+                glcollide::gpu::buffer(host_bufs[5]),
+            );
+        }
+        check("glcol_mesh_bind_gl_buffer", &mut || {
+            ok(unsafe { glcol_mesh_bind_gl_buffer(s, o, host_bufs[0], 0, 0) })
+        });
+        check("glcol_query (bound buffer)", &mut || {
+            assert_eq!(query(s, b).len(), n)
+        });
+    }
+    // A host error pending before our call: our call succeeds, the error is still there.
+    unsafe { g.enable(0) };
+    let before = snapshot(&ctx, &g, profile);
+    let _ = query(s, b);
+    let after = snapshot(&ctx, &g, profile);
+    compare("glcol_query with a pending error", &before, &after);
+    assert_eq!(
+        unsafe { g.get_error() },
+        glow::INVALID_ENUM,
+        "the host's pending error was lost"
+    );
+    assert_eq!(unsafe { g.get_error() }, glow::NO_ERROR);
+    check("glcol_scene_destroy", &mut || unsafe {
+        glcol_scene_destroy(s)
+    });
+}
+
+#[test]
+fn state_survives_gl_select_compat() {
+    run(Profile::Compat, GlcolBackend::GlSelect);
+}
+
+#[test]
+fn state_survives_gl_compute_compat() {
+    run(Profile::Compat, GlcolBackend::GlCompute);
+}
+
+#[test]
+fn state_survives_gl_compute_core() {
+    run(Profile::Core, GlcolBackend::GlCompute);
+}
