@@ -196,7 +196,11 @@ fn main() {
     ];
     let only = std::env::var("FRAME_CASE").unwrap_or_default();
     for c in cases.iter().filter(|c| c.name.contains(&only)) {
-        for leaf in [0, 32] {
+        let leaves: Vec<u32> = std::env::var("FRAME_LEAVES")
+            .ok()
+            .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
+            .unwrap_or_else(|| vec![0, 32]);
+        for &leaf in &leaves {
             run(c, leaf, 0.0);
         }
     }

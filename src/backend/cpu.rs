@@ -71,6 +71,8 @@ pub struct CpuSelector {
     pairs: Vec<(u32, u32)>,
     vwide: Vec<Wide>,
     cwide: Vec<Wide>,
+    keys: Vec<(u64, u32)>,
+    tmp: Vec<Wide>,
     cells: Vec<Option<[Cell; 2]>>,
 }
 
@@ -157,6 +159,8 @@ impl Selector for CpuSelector {
                 h,
                 &mut self.vwide,
                 &mut self.cwide,
+                &mut self.keys,
+                &mut self.tmp,
                 &mut self.pairs,
             );
             let hit = |(v, c): (u32, u32)| Hit {
@@ -224,6 +228,40 @@ fn meets(v: &[f64; 6], c: &[f64; 6]) -> bool {
         & (c[2] <= v[5])
 }
 
+/// Sorts boxes by their lower bound along `axis` through compact integer keys (an order-
+/// preserving map of the f64 bits), which is much cheaper than moving the boxes around.
+fn sort_by_axis(w: &mut Vec<Wide>, axis: usize, keys: &mut Vec<(u64, u32)>, tmp: &mut Vec<Wide>) {
+    let key = |x: f64| {
+        let b = x.to_bits();
+        if b >> 63 == 1 {
+            !b
+        } else {
+            b | (1 << 63)
+        }
+    };
+    keys.clear();
+    keys.extend(
+        w.iter()
+            .enumerate()
+            .map(|(i, b)| (key(b.b[axis]), i as u32)),
+    );
+    keys.sort_unstable();
+    tmp.clear();
+    tmp.extend(keys.iter().map(|&(_, i)| w[i as usize]));
+    std::mem::swap(w, tmp);
+}
+
+#[inline]
+fn meets_f32(v: &[f64; 6], c: &Aabb) -> bool {
+    let f = f64::from;
+    (f(c.max[0]) >= v[0])
+        & (f(c.min[0]) <= v[3])
+        & (f(c.max[1]) >= v[1])
+        & (f(c.min[1]) <= v[4])
+        & (f(c.max[2]) >= v[2])
+        & (f(c.min[2]) <= v[5])
+}
+
 /// Every (volume, candidate) pair whose boxes meet once the volume is grown by `h`, as
 /// positions in `vb` and `cb`. The grown volume is rounded in `f64`; rounding is monotone
 /// and the unmoved bounds are floats, so a pair whose plain boxes meet is never lost.
@@ -233,6 +271,8 @@ fn box_pairs(
     h: f64,
     vw: &mut Vec<Wide>,
     cw: &mut Vec<Wide>,
+    keys: &mut Vec<(u64, u32)>,
+    tmp: &mut Vec<Wide>,
     out: &mut Vec<(u32, u32)>,
 ) {
     let widen = |b: &Aabb, h: f64, at: usize| Wide {
@@ -246,20 +286,23 @@ fn box_pairs(
         ],
         at: at as u32,
     };
-    vw.clear();
-    vw.extend(vb.iter().enumerate().map(|(i, b)| widen(b, h, i)));
-    cw.clear();
-    cw.extend(cb.iter().enumerate().map(|(i, b)| widen(b, 0.0, i)));
     if vb.len() * cb.len() <= SWEEP_ABOVE || vb.len() == 1 || cb.len() == 1 {
-        for v in vw.iter() {
+        // Brute force, straight over the f32 boxes (no copies).
+        for (i, v) in vb.iter().enumerate() {
+            let w = widen(v, h, i).b;
             out.extend(
-                cw.iter()
-                    .filter(|c| meets(&v.b, &c.b))
-                    .map(|c| (v.at, c.at)),
+                cb.iter()
+                    .enumerate()
+                    .filter(|(_, c)| meets_f32(&w, c))
+                    .map(|(j, _)| (i as u32, j as u32)),
             );
         }
         return;
     }
+    vw.clear();
+    vw.extend(vb.iter().enumerate().map(|(i, b)| widen(b, h, i)));
+    cw.clear();
+    cw.extend(cb.iter().enumerate().map(|(i, b)| widen(b, 0.0, i)));
     // Sweep along the axis where the candidates are most spread out for their size.
     let axis = (0..3)
         .map(|k| {
@@ -280,8 +323,8 @@ fn box_pairs(
             }
         })
         .0;
-    vw.sort_unstable_by(|a, b| a.b[axis].total_cmp(&b.b[axis]));
-    cw.sort_unstable_by(|a, b| a.b[axis].total_cmp(&b.b[axis]));
+    sort_by_axis(vw, axis, keys, tmp);
+    sort_by_axis(cw, axis, keys, tmp);
     let (mut i, mut j) = (0, 0);
     while i < vw.len() && j < cw.len() {
         let (v, c) = (&vw[i], &cw[j]);
@@ -339,7 +382,16 @@ mod tests {
         let cb = boxes(170, 1.0);
         for h in [0.0, 0.3] {
             let mut got = Vec::new();
-            box_pairs(&vb, &cb, h, &mut Vec::new(), &mut Vec::new(), &mut got);
+            box_pairs(
+                &vb,
+                &cb,
+                h,
+                &mut Vec::new(),
+                &mut Vec::new(),
+                &mut Vec::new(),
+                &mut Vec::new(),
+                &mut got,
+            );
             got.sort_unstable();
             let mut want = Vec::new();
             for (i, v) in vb.iter().enumerate() {

@@ -27,11 +27,20 @@ impl Aabb {
         max: [f32::NEG_INFINITY; 3],
     };
 
+    /// Grows the box to hold `p` (plain comparisons: coordinates are finite here).
     #[inline]
     pub fn grow(&mut self, p: &[f32; 3]) {
         for k in 0..3 {
-            self.min[k] = self.min[k].min(p[k]);
-            self.max[k] = self.max[k].max(p[k]);
+            self.min[k] = if p[k] < self.min[k] {
+                p[k]
+            } else {
+                self.min[k]
+            };
+            self.max[k] = if p[k] > self.max[k] {
+                p[k]
+            } else {
+                self.max[k]
+            };
         }
     }
 
