@@ -231,8 +231,9 @@ fn main() {
         "scene,group,engine,eps_rel,eps_abs,leaf,tris_a,tris_b,frames,update_us,query_us,total_us,pairs_median,\
          check_frames,ref_pairs,missed,extra,max_extra_dist,max_extra_dist_rel,bytes,bytes_per_polygon,note\n",
     );
-    let mut mem =
-        String::from("scene,library,polygons,structure_bytes,cache_bytes,bytes_per_polygon,note\n");
+    let mut mem = String::from(
+        "scene,library,polygons,structure_bytes,cache_bytes,bytes_per_polygon,refit_b_us,note\n",
+    );
     for path in names {
         let d = read_dump(&path);
         let polys = d.ta.len() + d.tb.len();
