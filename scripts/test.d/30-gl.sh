@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The GL host example: its own headless EGL context (Mesa llvmpipe, no GPU or display
+# needed), glcollide called between its draws on all three backends; fails if the host's
+# GL state changed, if the backends disagree, or if no PNG was written.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+make -s -C examples-c
+out=$(mktemp -d)/gl_host.png
+examples-c/build/gl_host ../shared/meshes "${FRAMES:-30}" "$out"
+test -s "$out"
