@@ -18,10 +18,14 @@
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Gmpq.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Simple_cartesian.h>
 #include <CGAL/intersections.h>
 #include <CGAL/squared_distance_3.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -126,90 +130,147 @@ Box total(const std::vector<Box> &v) {
     return t;
 }
 
-// ---- exact constructions: lazy exact rationals (GMP) behind interval filters ----
+// ---- exact constructions, filtered ----
+// Each question is first answered with interval arithmetic (CGAL::Interval_nt, rounding
+// upward), which throws when the answer is not certain; then it is asked again with exact
+// rationals (Epeck's lazy GMP numbers, or Gmpq), so every answer is exact.
+using IK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;
 using Q = CGAL::Exact_predicates_exact_constructions_kernel;
-using QP = Q::Point_3;
-using QV = Q::Vector_3;
-using QF = Q::FT;
 
-Simplex<QP> to_q(const Simplex<P> &s) {
-    Simplex<QP> r;
+template <class KK> Simplex<typename KK::Point_3> to_k(const Simplex<P> &s) {
+    Simplex<typename KK::Point_3> r;
     r.dim = s.dim;
-    for (int i = 0; i < 3; i++) r.p[i] = QP(s.p[i].x(), s.p[i].y(), s.p[i].z());
+    for (int i = 0; i < 3; i++) r.p[i] = typename KK::Point_3(s.p[i].x(), s.p[i].y(), s.p[i].z());
     return r;
 }
 
-QF sq_point(const QP &x, const Simplex<QP> &t) {
-    if (t.dim == 2) return CGAL::squared_distance(x, Q::Triangle_3(t.p[0], t.p[1], t.p[2]));
-    if (t.dim == 1) return CGAL::squared_distance(x, Q::Segment_3(t.p[0], t.p[1]));
+template <class KK> typename KK::FT sq_point(const typename KK::Point_3 &x, const Simplex<typename KK::Point_3> &t) {
+    if (t.dim == 2) return CGAL::squared_distance(x, typename KK::Triangle_3(t.p[0], t.p[1], t.p[2]));
+    if (t.dim == 1) return CGAL::squared_distance(x, typename KK::Segment_3(t.p[0], t.p[1]));
     return CGAL::squared_distance(x, t.p[0]);
 }
 
-int edges(const Simplex<QP> &s, Q::Segment_3 *e) {
+template <class KK> int edges(const Simplex<typename KK::Point_3> &s, typename KK::Segment_3 *e) {
     if (s.dim == 2) {
-        for (int i = 0; i < 3; i++) e[i] = Q::Segment_3(s.p[i], s.p[(i + 1) % 3]);
+        for (int i = 0; i < 3; i++) e[i] = typename KK::Segment_3(s.p[i], s.p[(i + 1) % 3]);
         return 3;
     }
     if (s.dim == 1) {
-        e[0] = Q::Segment_3(s.p[0], s.p[1]);
+        e[0] = typename KK::Segment_3(s.p[0], s.p[1]);
         return 1;
     }
     return 0;
 }
 
-// Exact squared distance of two disjoint simplices.
-QF sq_dist(const Simplex<QP> &s, const Simplex<QP> &t) {
+// Squared distance of two disjoint simplices: the nearest of the vertex-simplex and edge-edge
+// distances. take() is a min that does not compare intervals.
+template <class KK> typename KK::FT sq_dist(const Simplex<P> &s0, const Simplex<P> &t0) {
+    using FT = typename KK::FT;
+    auto s = to_k<KK>(s0), t = to_k<KK>(t0);
     bool first = true;
-    QF best = 0;
-    auto take = [&](const QF &d) {
-        if (first || d < best) best = d;
+    FT best = 0;
+    auto take = [&](const FT &d) {
+        if (first) best = d;
+        else best = CGAL::min(best, d);
         first = false;
     };
-    for (int i = 0; i <= s.dim; i++) take(sq_point(s.p[i], t));
-    for (int i = 0; i <= t.dim; i++) take(sq_point(t.p[i], s));
-    Q::Segment_3 es[3], et[3];
-    int ns = edges(s, es), nt = edges(t, et);
+    for (int i = 0; i <= s.dim; i++) take(sq_point<KK>(s.p[i], t));
+    for (int i = 0; i <= t.dim; i++) take(sq_point<KK>(t.p[i], s));
+    typename KK::Segment_3 es[3], et[3];
+    int ns = edges<KK>(s, es), nt = edges<KK>(t, et);
     for (int i = 0; i < ns; i++)
         for (int j = 0; j < nt; j++) take(CGAL::squared_distance(es[i], et[j]));
     return best;
 }
 
-// Is there a plane with s on one closed side and t on the other (weak separation)?
-bool weakly_separated(const Simplex<QP> &s, const Simplex<QP> &t) {
-    std::vector<QV> es, et, axes;
-    for (int i = 0; i < s.dim + (s.dim == 2 ? 1 : 0); i++) es.push_back(s.p[(i + 1) % 3] - s.p[i]);
-    for (int i = 0; i < t.dim + (t.dim == 2 ? 1 : 0); i++) et.push_back(t.p[(i + 1) % 3] - t.p[i]);
-    if (s.dim == 1) es.resize(1);
-    if (t.dim == 1) et.resize(1);
-    QV ns, nt;
-    bool has_ns = s.dim == 2, has_nt = t.dim == 2;
-    if (has_ns) ns = CGAL::cross_product(es[0], es[1]);
-    if (has_nt) nt = CGAL::cross_product(et[0], et[1]);
-    if (has_ns) axes.push_back(ns);
-    if (has_nt) axes.push_back(nt);
+// Is there a plane with s on one closed side and t on the other (weak separation)? Tried on
+// the SAT axes of two triangles: both normals, the 9 edge x edge directions and the 6
+// in-plane edge normals (fewer for segments and points).
+template <class NT> bool sat_weak(const Simplex<P> &s, const Simplex<P> &t) {
+    using V = std::array<NT, 3>;
+    auto pt = [](const P &p) { return V{NT(p.x()), NT(p.y()), NT(p.z())}; };
+    auto sub = [](const V &a, const V &b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+    auto cross = [](const V &a, const V &b) {
+        return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    };
+    auto dot = [](const V &a, const V &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    V ps[3], pq[3];
+    for (int i = 0; i <= s.dim; i++) ps[i] = pt(s.p[i]);
+    for (int i = 0; i <= t.dim; i++) pq[i] = pt(t.p[i]);
+    std::vector<V> es, et, axes;
+    int nes = s.dim == 2 ? 3 : s.dim, net = t.dim == 2 ? 3 : t.dim;
+    for (int i = 0; i < nes; i++) es.push_back(sub(ps[(i + 1) % (s.dim + 1)], ps[i]));
+    for (int i = 0; i < net; i++) et.push_back(sub(pq[(i + 1) % (t.dim + 1)], pq[i]));
+    if (s.dim == 2) axes.push_back(cross(es[0], es[1]));
+    if (t.dim == 2) axes.push_back(cross(et[0], et[1]));
     for (auto &a : es)
-        for (auto &b : et) axes.push_back(CGAL::cross_product(a, b));
-    if (has_ns)
-        for (auto &a : es) axes.push_back(CGAL::cross_product(ns, a));
-    if (has_nt)
-        for (auto &b : et) axes.push_back(CGAL::cross_product(nt, b));
-    const QV zero(0, 0, 0);
-    for (const QV &ax : axes) {
-        if (ax == zero) continue;
-        QF lo_s, hi_s, lo_t, hi_t;
-        for (int i = 0; i <= s.dim; i++) {
-            QF d = ax * (s.p[i] - CGAL::ORIGIN);
-            if (i == 0 || d < lo_s) lo_s = d;
-            if (i == 0 || d > hi_s) hi_s = d;
+        for (auto &b : et) axes.push_back(cross(a, b));
+    if (s.dim == 2)
+        for (auto &a : es) axes.push_back(cross(axes[0], a));
+    if (t.dim == 2)
+        for (auto &b : et) axes.push_back(cross(axes[s.dim == 2 ? 1 : 0], b));
+    for (const V &ax : axes) {
+        // A zero axis is skipped; an interval that only might be zero makes the comparisons
+        // below uncertain, so the exact pass decides.
+        if (CGAL::certainly(ax[0] == 0) && CGAL::certainly(ax[1] == 0) && CGAL::certainly(ax[2] == 0))
+            continue;
+        NT lo_s = dot(ax, ps[0]), hi_s = lo_s, lo_t = dot(ax, pq[0]), hi_t = lo_t;
+        for (int i = 1; i <= s.dim; i++) { // min/max of intervals: no comparison needed
+            NT d = dot(ax, ps[i]);
+            lo_s = CGAL::min(lo_s, d);
+            hi_s = CGAL::max(hi_s, d);
         }
-        for (int i = 0; i <= t.dim; i++) {
-            QF d = ax * (t.p[i] - CGAL::ORIGIN);
-            if (i == 0 || d < lo_t) lo_t = d;
-            if (i == 0 || d > hi_t) hi_t = d;
+        for (int i = 1; i <= t.dim; i++) {
+            NT d = dot(ax, pq[i]);
+            lo_t = CGAL::min(lo_t, d);
+            hi_t = CGAL::max(hi_t, d);
         }
-        if (hi_s <= lo_t || hi_t <= lo_s) return true;
+        if (bool(hi_s <= lo_t) || bool(hi_t <= lo_s)) return true;
     }
     return false;
+}
+
+bool weakly_separated(const Simplex<P> &s, const Simplex<P> &t) {
+    {
+        CGAL::Protect_FPU_rounding<true> guard;
+        try {
+            return sat_weak<CGAL::Interval_nt<false>>(s, t);
+        } catch (CGAL::Uncertain_conversion_exception &) {
+        }
+    }
+    return sat_weak<CGAL::Gmpq>(s, t);
+}
+
+// Distance class of two disjoint polygons given as sub-pairs: BAND (<= h) or APART, and the
+// distance rounded to double.
+Class distance_class(const std::vector<std::pair<Simplex<P>, Simplex<P>>> &sub, double h, double &dist) {
+    {
+        CGAL::Protect_FPU_rounding<true> guard;
+        try {
+            using I = CGAL::Interval_nt<false>;
+            I best;
+            for (size_t k = 0; k < sub.size(); k++) {
+                I d = sq_dist<IK>(sub[k].first, sub[k].second);
+                best = k == 0 ? d : CGAL::min(best, d);
+            }
+            I hh = I(h) * I(h);
+            CGAL::Uncertain<bool> in = best <= hh;
+            if (CGAL::is_certain(in) && !bool(best <= I(0))) { // certain, and certainly apart
+                dist = std::sqrt((best.inf() + best.sup()) / 2);
+                return CGAL::get_certain(in) ? BAND : APART;
+            }
+        } catch (CGAL::Uncertain_conversion_exception &) {
+        }
+    }
+    Q::FT best = 0;
+    for (size_t k = 0; k < sub.size(); k++) {
+        Q::FT d = sq_dist<Q>(sub[k].first, sub[k].second);
+        if (d == 0) throw std::runtime_error("judge: CGAL do_intersect and distance disagree");
+        best = k == 0 ? d : CGAL::min(best, d);
+    }
+    Q::FT hq(h);
+    dist = std::sqrt(CGAL::to_double(best));
+    return best <= hq * hq ? BAND : APART;
 }
 
 void poly_tris(const Mesh &M, uint32_t p, uint32_t *t, int &n) {
@@ -270,30 +331,26 @@ Verdict judge(const Mesh &A, const double *pa, uint32_t a, const Mesh &B, const 
     int na, nb;
     poly_tris(A, a, tas, na);
     poly_tris(B, b, tbs, nb);
-    bool met = false, cross = false, coplanar = true, first = true;
-    QF best = 0;
+    std::vector<std::pair<Simplex<P>, Simplex<P>>> sub, met;
     for (int i = 0; i < na; i++)
         for (int j = 0; j < nb; j++) {
-            Simplex<P> s = simplex(pa, &A.tri[3 * tas[i]]), t = simplex(pb, &B.tri[3 * tbs[j]]);
-            Simplex<QP> qs = to_q(s), qt = to_q(t);
-            if (meet(s, t)) {
-                met = true;
-                if (!weakly_separated(qs, qt)) cross = true;
-                bool cp = s.dim == 2 && t.dim == 2;
-                for (int k = 0; cp && k < 3; k++)
-                    cp = CGAL::coplanar(s.p[0], s.p[1], s.p[2], t.p[k]);
-                coplanar = coplanar && cp;
-            } else {
-                QF d = sq_dist(qs, qt);
-                if (d == 0) throw std::runtime_error("judge: CGAL do_intersect and distance disagree");
-                if (first || d < best) best = d;
-                first = false;
-            }
+            std::pair<Simplex<P>, Simplex<P>> st(simplex(pa, &A.tri[3 * tas[i]]), simplex(pb, &B.tri[3 * tbs[j]]));
+            (meet(st.first, st.second) ? met : sub).push_back(st);
         }
-    if (met) return {cross ? CROSS : TOUCH, !cross && coplanar, 0.0};
-    QF h(half_eps);
-    double dist = std::sqrt(CGAL::to_double(best));
-    return {best <= h * h ? BAND : APART, false, dist};
+    if (met.empty()) {
+        double dist = 0;
+        Class c = distance_class(sub, half_eps, dist);
+        return {c, false, dist};
+    }
+    bool cross = false, coplanar = true;
+    for (const auto &st : met) {
+        const Simplex<P> &s = st.first, &t = st.second;
+        if (!weakly_separated(s, t)) cross = true;
+        bool cp = s.dim == 2 && t.dim == 2;
+        for (int k = 0; cp && k < 3; k++) cp = CGAL::coplanar(s.p[0], s.p[1], s.p[2], t.p[k]);
+        coplanar = coplanar && cp;
+    }
+    return {cross ? CROSS : TOUCH, !cross && coplanar, 0.0};
 }
 
 } // namespace xc

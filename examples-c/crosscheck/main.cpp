@@ -207,6 +207,14 @@ SceneResult run(const Scene &S, size_t max_examples, bool classify_exact) {
             exact_pairs(A, da.data(), B, db.data(), tmp);
             to_poly(A, B, tmp, set[L_EXACT]);
             R.lib[L_EXACT].us.push_back(t.us());
+            if (f % 10 == 0 && A.ntri() * B.ntri() <= 400000) { // small scenes: sweep vs brute force
+                std::vector<Key> all;
+                for (uint32_t i = 0; i < A.ntri(); i++)
+                    for (uint32_t j = 0; j < B.ntri(); j++)
+                        if (exact_tri_intersect(da.data(), &A.tri[3 * i], db.data(), &B.tri[3 * j]))
+                            all.push_back(key(i, j));
+                if (all != tmp) throw std::runtime_error("exact reference: the sweep lost or invented pairs");
+            }
         }
         {
             Timer t;
