@@ -314,7 +314,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
         [hi[0], (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0],
         1.0,
     );
-    let mut check = |what: &str, f: &mut dyn FnMut()| {
+    let check = |what: &str, f: &mut dyn FnMut()| {
         let before = snapshot(&ctx, &g, profile);
         f();
         let after = snapshot(&ctx, &g, profile);
