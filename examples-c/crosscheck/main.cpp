@@ -113,7 +113,21 @@ struct Example {
     Key pair;
     bool missed;
     Verdict v;
+    std::string repro; // for glcollide failures: both polygons' float corners, exactly
 };
+
+// The corners of polygon p as glcollide got them (C99 hex floats: exact, and valid C).
+std::string corners(const Mesh &M, const std::vector<float> &pos, uint32_t p) {
+    std::ostringstream o;
+    char buf[160];
+    for (uint32_t j = 0; j < M.vpp; j++) {
+        uint32_t v = M.poly[size_t(p) * M.vpp + j];
+        snprintf(buf, sizeof buf, "%s{%a, %a, %a}", j ? ", " : "", double(pos[3 * v]), double(pos[3 * v + 1]),
+                 double(pos[3 * v + 2]));
+        o << buf;
+    }
+    return o.str();
+}
 
 struct LibStats {
     long long pairs = 0;
@@ -172,7 +186,7 @@ std::string fmt_disagree(const LibStats &s) {
     return r.empty() ? "0" : r;
 }
 
-SceneResult run(const Scene &S, size_t max_examples, bool classify_exact) {
+SceneResult run(const Scene &S, size_t max_examples, bool classify_exact, bool inject) {
     Timer total;
     SceneResult R;
     R.name = S.name;
@@ -227,6 +241,10 @@ SceneResult run(const Scene &S, size_t max_examples, bool classify_exact) {
             Timer t;
             if (f > 0) ge.update(fa.data(), fb.data());
             ge.query(set[L_GLCE]);
+            if (inject && !set[L_GLCE].empty()) { // self-test of the checker: lose one pair
+                set[L_GLC0].erase(set[L_GLC0].begin());
+                set[L_GLCE].erase(set[L_GLCE].begin());
+            }
             R.lib[L_GLCE].us.push_back(t.us());
         }
         {
@@ -299,7 +317,10 @@ SceneResult run(const Scene &S, size_t max_examples, bool classify_exact) {
                     bool fail = is_failure(l, pass == 0, v.cls);
                     if (fail) R.glc_fail++;
                     if (st.examples.size() < max_examples || (fail && st.examples.size() < 4 * max_examples))
-                        st.examples.push_back({f, k, pass == 0, v});
+                        st.examples.push_back({f, k, pass == 0, v,
+                                               fail ? "A: " + corners(A, fa, key_a(k)) + "\n        B: " +
+                                                          corners(B, fb, key_b(k))
+                                                    : std::string()});
                 }
         }
     }
@@ -373,13 +394,14 @@ const char *usage =
     "                    (scaled to 1/10 of O's diagonal), moving and bending; repeatable\n"
     "  --examples N      judged examples printed per library and scene (default 3)\n"
     "  --no-classify     do not classify the exact pairs (touching count)\n"
+    "  --inject          self-test: drop one glcollide pair per frame; must exit 1\n"
     "  --markdown FILE   also write the two summary tables there\n";
 
 int main(int argc, char **argv) {
     std::string dir = "../shared/meshes", only, md;
     int frames = 0;
     size_t examples = 3;
-    bool classify = true;
+    bool classify = true, inject = false;
     std::vector<std::function<Scene()>> custom;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
@@ -396,6 +418,7 @@ int main(int argc, char **argv) {
         else if (a == "--examples") examples = size_t(atoi(next().c_str()));
         else if (a == "--markdown") md = next();
         else if (a == "--no-classify") classify = false;
+        else if (a == "--inject") inject = true;
         else if (a == "--pair" || a == "--tool") {
             std::string x = next(), y = next();
             bool tool = a == "--tool";
@@ -418,7 +441,7 @@ int main(int argc, char **argv) {
         for (auto &make : custom.empty() ? all_scenes(dir, frames) : custom) {
             Scene S = make();
             if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-            SceneResult r = run(S, examples, classify);
+            SceneResult r = run(S, examples, classify, inject);
             fails += r.glc_fail;
             printf("%-44s %3d fr  exact %7lld  glc0 %7lld  glcE %7lld  fcl %7lld  bullet %7lld  native %7lld  %5.1fs%s\n",
                    r.name.c_str(), r.frames, r.lib[L_EXACT].pairs, r.lib[L_GLC0].pairs, r.lib[L_GLCE].pairs,
@@ -450,6 +473,9 @@ int main(int argc, char **argv) {
                 printf("    frame %d  (%u, %u)  %s  %s%s  distance %.3g%s\n", e.frame, key_a(e.pair), key_b(e.pair),
                        e.missed ? "missed" : "extra", class_name[e.v.cls], e.v.coplanar ? " (coplanar)" : "",
                        e.v.dist, is_failure(l, e.missed, e.v.cls) ? "  <- glcollide FAILS" : "");
+            for (const auto &e : s.examples)
+                if (!e.repro.empty()) printf("      frame %d  (%u, %u):\n        %s\n", e.frame, key_a(e.pair),
+                                              key_b(e.pair), e.repro.c_str());
         }
     if (!md.empty()) {
         FILE *f = fopen(md.c_str(), "w");
