@@ -16,6 +16,7 @@ if ! { cargo test --release --locked --lib --tests && cargo bench --locked --no-
 fi
 grep -E '^(     Running|test result)' "$log"
 echo "== C examples"
+cargo build --release --locked
 make -s -C examples-c
 examples-c/build/api_errors
 FRAMES=60 bash scripts/demo.sh | tail -3
