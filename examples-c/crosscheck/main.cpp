@@ -4,12 +4,16 @@
 // placement and the same deformation for every library, frame by frame) it asks for the set
 // of intersecting polygon pairs (a of A, b of B):
 //   exact      sweep over exact boxes + CGAL::do_intersect, exact predicates (exact.cpp)
-//   glc e=0    glcollide, CPU backend, epsilon 0: documented as exactly `exact`
+//   exact      (on small scenes every 10th frame is also checked against brute force)
+//   glc e=0    glcollide, CPU backend, epsilon 0: documented as exactly `exact`; asked with
+//              A as the reference, and again with B ("B-ref", pairs swapped back)
 //   glc e      glcollide, CPU backend, epsilon e > 0: documented as a superset of `exact`
 //              whose extra pairs lie within e/2 of each other
 //   FCL        BVHModel<AABB>, refit each frame, all contacts (fcl_peer.cpp)
-//   Bullet     GImpact quantized BVH, refit each frame, find_collision + exact test
-//   GImpact    the same candidates through GImpact's native triangle test (finding only)
+//   Bullet     GImpact quantized BVH, refit each frame (rebuilt when a mesh leaves its
+//              quantization frame), find_collision + exact test (bullet_peer.cpp)
+//   Bullet refit-only   the same, never rebuilt (finding only)
+//   GImpact native      the same candidates through GImpact's own triangle test (finding only)
 // Every pair on which a library and `exact` disagree is judged on its own with exact
 // rationals (exact.cpp: judge): cross (truly intersecting), touch (touching: shared
 // vertex/edge, contact on the boundary, coplanar overlap), band (apart, distance <= e/2),
