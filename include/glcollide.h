@@ -77,6 +77,18 @@ typedef enum GlcolBackend {
 
 // A scene: meshes, a backend, and the last query's contacts. Opaque; made by
 // `glcol_scene_create`, freed by `glcol_scene_destroy`.
+//
+// Threads: a scene is used by one thread at a time; the caller synchronises (calls on
+// one scene from two threads at once are undefined behaviour, not detected). Different
+// scenes may be used on different threads at the same time without locking (CPU backend;
+// GL-backed scenes also need their context current on that thread). Nothing else is
+// shared between scenes; the last-error message is per thread.
+//
+// Misuse the library cannot detect (undefined behaviour): a dangling, freed or foreign
+// pointer passed as a scene (or used after `glcol_scene_destroy`); arrays shorter than
+// their counts and stride say (positions, indices); a contacts array read after the next
+// non-const call on its scene. (Mesh ids are unique in the process, so an id made by
+// another scene, or destroyed, is always detected: GLCOL_STATUS_UNKNOWN_MESH.)
 typedef struct GlcolScene GlcolScene;
 
 // Loads a GL entry point by name for the context current on the calling thread (like
@@ -206,7 +218,9 @@ enum GlcolStatus glcol_scene_backend(const struct GlcolScene *scene, enum GlcolB
 // `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
 // desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
 // alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
-// Arrays shorter than the counts say cannot be detected (undefined behaviour).
+// Counts above 2^32 - 1 vertices or 2^32 - 2 polygons, or whose byte size overflows, are
+// refused before the arrays are read. Arrays shorter than the counts say, or dangling
+// pointers, cannot be detected (undefined behaviour).
 enum GlcolStatus glcol_mesh_create(struct GlcolScene *scene,
                                    const struct GlcolMeshDesc *desc,
                                    GlcolMeshId *out_id);
@@ -215,7 +229,9 @@ enum GlcolStatus glcol_mesh_create(struct GlcolScene *scene,
 // each, `position_stride` bytes apart, 0 = packed) and refits the mesh's boxes. Rejected
 // whole on any error (the mesh keeps its previous positions): UNKNOWN_MESH, NULL_POINTER,
 // INVALID_ARGUMENT (zero count, range past the end, stride, alignment, overflow),
-// NON_FINITE.
+// NON_FINITE. The range is checked against the mesh before the array is read; an array
+// shorter than `vertex_count` vertices `position_stride` apart cannot be detected
+// (undefined behaviour).
 enum GlcolStatus glcol_mesh_update_positions(struct GlcolScene *scene,
                                              GlcolMeshId mesh,
                                              const float *positions,
