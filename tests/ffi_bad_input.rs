@@ -200,9 +200,8 @@ fn gl_backend_with_a_loader_that_finds_nothing_fails_cleanly() {
 }
 
 /// The API's word for a loader that finds no entry point (no current context) is
-/// GL_UNAVAILABLE; this build still says UNSUPPORTED (no GL backend yet).
+/// GL_UNAVAILABLE.
 #[test]
-#[ignore = "pending the GL backends: a loader that finds nothing should give GL_UNAVAILABLE"]
 fn gl_backend_with_a_loader_that_finds_nothing_is_gl_unavailable() {
     for b in [GlcolBackend::GlSelect, GlcolBackend::GlCompute] {
         let mut d = scene_desc();
