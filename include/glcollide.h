@@ -132,7 +132,8 @@ typedef struct GlcolMeshDesc {
   uint32_t vertices_per_polygon;
 } GlcolMeshDesc;
 
-// Id of a mesh within its scene (never 0, never reused within the scene).
+// Id of a mesh (never 0; unique in the process, so never reused and never valid in
+// another scene).
 typedef uint32_t GlcolMeshId;
 
 // One colliding polygon pair.

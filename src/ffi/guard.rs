@@ -1,15 +1,53 @@
 //! The boundary: every entry point's body runs in [`guard`], which turns errors into a
 //! status plus a thread-local message and catches panics.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::ffi::{c_char, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Once;
 
 use super::types::GlcolStatus;
 use crate::error::{Error, ErrorKind};
 
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+    /// True while this thread runs a guarded body: its panics are reported as a status and
+    /// a message, never printed.
+    static IN_GUARD: Cell<bool> = const { Cell::new(false) };
+    /// Where the last guarded panic happened (file:line), for the message.
+    static PANIC_AT: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+static QUIET_HOOK: Once = Once::new();
+
+/// Installs (once) a panic hook that stays silent for panics inside [`guard`] (the library
+/// never writes to stderr) and hands every other panic to the hook that was there before.
+fn install_quiet_hook() {
+    QUIET_HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if IN_GUARD.try_with(Cell::get).unwrap_or(false) {
+                if let Some(l) = info.location() {
+                    let _ = PANIC_AT.try_with(|p| {
+                        if let Ok(mut p) = p.try_borrow_mut() {
+                            *p = format!("{}:{}", l.file(), l.line());
+                        }
+                    });
+                }
+            } else {
+                previous(info);
+            }
+        }));
+    });
+}
+
+/// Runs `f` with this thread marked as inside the boundary, catching panics.
+fn guarded<T>(f: impl FnOnce() -> T) -> std::thread::Result<T> {
+    install_quiet_hook();
+    let outer = IN_GUARD.try_with(|g| g.replace(true)).unwrap_or(false);
+    let r = catch_unwind(AssertUnwindSafe(f));
+    let _ = IN_GUARD.try_with(|g| g.set(outer));
+    r
 }
 
 /// A failure at the boundary: the status to return and the message to keep.
@@ -50,7 +88,7 @@ pub fn invalid(msg: impl Into<String>) -> Fail {
 
 /// Runs `f`, catching panics. Failures set the thread's last error message.
 pub fn guard(f: impl FnOnce() -> FfiResult) -> GlcolStatus {
-    match catch_unwind(AssertUnwindSafe(f)) {
+    match guarded(f) {
         Ok(Ok(())) => GlcolStatus::Ok,
         Ok(Err(Fail(status, msg))) => {
             set_last_error(&msg);
@@ -62,7 +100,10 @@ pub fn guard(f: impl FnOnce() -> FfiResult) -> GlcolStatus {
                 .map(|s| s.to_string())
                 .or_else(|| payload.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".into());
-            set_last_error(&format!("internal error (please report): {what}"));
+            let at = PANIC_AT
+                .try_with(|p| p.try_borrow().map(|s| s.clone()).unwrap_or_default())
+                .unwrap_or_default();
+            set_last_error(&format!("internal error (please report): {what} at {at}"));
             GlcolStatus::Internal
         }
     }
@@ -70,7 +111,7 @@ pub fn guard(f: impl FnOnce() -> FfiResult) -> GlcolStatus {
 
 /// Runs `f` (which cannot fail) with panics caught; returns `default` after a panic.
 pub fn guard_or<T>(default: T, f: impl FnOnce() -> T) -> T {
-    catch_unwind(AssertUnwindSafe(f)).unwrap_or(default)
+    guarded(f).unwrap_or(default)
 }
 
 pub fn set_last_error(msg: &str) {
@@ -108,7 +149,7 @@ mod tests {
             .to_str()
             .unwrap()
             .to_owned();
-        assert!(msg.contains("boom 42"), "{msg}");
+        assert!(msg.contains("boom 42") && msg.contains("guard.rs:"), "{msg}");
         assert_eq!(guard_or(7, || panic!("x")), 7);
     }
 

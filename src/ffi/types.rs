@@ -103,7 +103,8 @@ pub struct GlcolMeshDesc {
     pub vertices_per_polygon: u32,
 }
 
-/// Id of a mesh within its scene (never 0, never reused within the scene).
+/// Id of a mesh (never 0; unique in the process, so never reused and never valid in
+/// another scene).
 pub type GlcolMeshId = u32;
 
 /// One colliding polygon pair.
