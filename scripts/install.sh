@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Builds glcollide with cargo-c and installs it like a distribution library:
+#
+#   bash scripts/install.sh [PREFIX]        # PREFIX defaults to /usr/local
+#
+# PREFIX/include/glcollide/glcollide.h             the header (the checked-in include/glcollide.h)
+# PREFIX/LIBDIR/libglcollide.so.X.Y.Z              the shared library, soname libglcollide.so.0.MINOR
+#               libglcollide.so.0.MINOR, .so       its soname and development symlinks
+#               libglcollide.a                     the static library
+#               pkgconfig/glcollide.pc             for pkg-config
+#               cmake/glcollide/glcollideConfig{,Version}.cmake   for find_package(glcollide)
+#
+# Environment: LIBDIR (relative to PREFIX, default lib; e.g. lib/x86_64-linux-gnu),
+# DESTDIR (stage into DESTDIR/PREFIX, for packaging), CARGO_TARGET_DIR as for cargo.
+# Installs cargo-c (cargo install, about 10 minutes on 2 cores) and the Debian packages its
+# build needs only when they are missing. Without write access to PREFIX, the files are
+# staged and copied with sudo.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+prefix=${1:-/usr/local}
+[[ "$prefix" = /* ]] || prefix="$(pwd)/$prefix"
+libdir=${LIBDIR:-lib}
+destdir=${DESTDIR:-}
+
+CARGO_C_VERSION="0.10.24+cargo-0.98.0"
+export PATH="${CARGO_HOME:-$HOME/.cargo}/bin:$PATH"
+
+# cargo-c: the version pinned above unless a new enough one is already installed
+# (Debian's cargo-c 0.9.x cannot read this crate's Cargo.lock).
+have_cargo_c() {
+  command -v cargo-cinstall >/dev/null || return 1
+  local v
+  v=$(cargo cinstall --version 2>/dev/null | awk '{print $2}')
+  [[ "$v" =~ ^0\.([0-9]+)\.([0-9]+) ]] || return 1
+  ((BASH_REMATCH[1] > 10 || (BASH_REMATCH[1] == 10 && BASH_REMATCH[2] >= 24)))
+}
+if ! have_cargo_c; then
+  # openssl-sys needs pkg-config and the OpenSSL headers to build cargo's HTTP stack.
+  bash scripts/deps.sh libssl-dev
+  echo "install: cargo install cargo-c $CARGO_C_VERSION (once; about 10 minutes on 2 cores)"
+  start=$SECONDS
+  cargo install cargo-c --version "$CARGO_C_VERSION" --locked --quiet
+  echo "install: cargo-c built in $((SECONDS - start)) s"
+fi
+
+stage=""
+if [ -z "$destdir" ] && [ "$(id -u)" -ne 0 ]; then
+  probe=$prefix
+  while [ ! -e "$probe" ]; do probe=$(dirname "$probe"); done
+  [ -w "$probe" ] || stage=$(mktemp -d)
+fi
+
+cargo cinstall --release --locked --prefix "$prefix" --libdir "$libdir" --includedir include \
+  ${destdir:+--destdir "$destdir"} ${stage:+--destdir "$stage"}
+
+root=${destdir:-${stage:-}}
+bash cmake/write-package-config.sh "$root$prefix/$libdir" "$root$prefix/include"
+
+if [ -n "$stage" ]; then
+  echo "install: copying into $prefix with sudo"
+  sudo cp -a "$stage$prefix/." "$prefix/"
+  rm -rf "$stage"
+fi
+# Refresh the loader cache for system prefixes so programs find the new soname.
+if [ -z "$destdir" ] && command -v ldconfig >/dev/null &&
+   { [ "$prefix" = /usr/local ] || [ "$prefix" = /usr ]; }; then
+  if [ "$(id -u)" -eq 0 ]; then ldconfig; elif [ -n "$stage" ]; then sudo ldconfig; fi
+fi
+echo "install: glcollide installed into $destdir$prefix (libdir $libdir)"
