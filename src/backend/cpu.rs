@@ -74,13 +74,50 @@ pub struct CpuSelector {
     keys: Vec<(u64, u32)>,
     tmp: Vec<Wide>,
     cells: Vec<Option<[Cell; 2]>>,
+    vprep: Vec<Prepared>,
+    cprep: Vec<Prepared>,
+    stamp: u32,
 }
 
 /// A polygon as one or two `f64` triangles.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct Polygon {
     tris: [[P3; 3]; 2],
     n: usize,
+}
+
+/// A polygon of the current step-5 group, widened and with its triangles' planes, valid
+/// while `stamp` is the group's.
+#[derive(Clone, Copy)]
+struct Prepared {
+    stamp: u32,
+    poly: Polygon,
+    planes: [Plane; 2],
+}
+
+impl Default for Prepared {
+    fn default() -> Self {
+        let zero = [[0.0; 3]; 3];
+        Prepared {
+            stamp: 0,
+            poly: Polygon::default(),
+            planes: [Plane::of(&zero); 2],
+        }
+    }
+}
+
+impl Prepared {
+    #[inline]
+    fn get(&mut self, stamp: u32, q: &QueryMeshes<'_>, p: super::Prim) -> Prepared {
+        if self.stamp != stamp {
+            let mut tris = [[[0.0; 3]; 3]; 2];
+            let n = q.mesh(p).triangles(p.index as usize, &mut tris);
+            self.poly = Polygon { tris, n };
+            self.planes = [Plane::of(&tris[0]), Plane::of(&tris[n - 1])];
+            self.stamp = stamp;
+        }
+        *self
+    }
 }
 
 impl CpuSelector {
@@ -171,33 +208,37 @@ impl Selector for CpuSelector {
                 hits.extend(self.pairs.iter().map(|&p| hit(p)));
                 continue;
             }
-            // Step 5: the narrow test on the box-overlapping pairs (pairs come grouped by
-            // volume or by candidate; polygons are widened on demand, cells built once).
-            let polygon = |p: super::Prim| {
-                let mut tris = [[[0.0; 3]; 3]; 2];
-                let n = q.mesh(p).triangles(p.index as usize, &mut tris);
-                Polygon { tris, n }
-            };
+            // Step 5: the narrow test on the box-overlapping pairs. Each polygon of the
+            // group is widened to f64 and given its planes once (on first use), and each
+            // volume its cells.
+            self.stamp = self.stamp.wrapping_add(1).max(1);
+            let stamp = self.stamp;
+            if self.vprep.len() < vols.len() {
+                self.vprep.resize(vols.len(), Prepared::default());
+            }
+            if self.cprep.len() < cands.len() {
+                self.cprep.resize(cands.len(), Prepared::default());
+            }
             self.cells.clear();
             self.cells
                 .resize(if h > 0.0 { vols.len() } else { 0 }, None);
             for &(v, c) in &self.pairs {
-                let pv = polygon(vols[v as usize]);
-                let pc = polygon(cands[c as usize]);
+                let pv = self.vprep[v as usize].get(stamp, q, vols[v as usize]);
+                let pc = self.cprep[c as usize].get(stamp, q, cands[c as usize]);
                 let cells = (h > 0.0).then(|| {
                     &*self.cells[v as usize].get_or_insert_with(|| {
                         [
-                            Cell::of_triangle(&pv.tris[0], h),
-                            Cell::of_triangle(&pv.tris[pv.n - 1], h),
+                            Cell::of_triangle(&pv.poly.tris[0], h),
+                            Cell::of_triangle(&pv.poly.tris[pv.poly.n - 1], h),
                         ]
                     })
                 });
-                let meets = (0..pv.n).any(|a| {
-                    (0..pc.n).any(|b| {
-                        let (ta, tb) = (&pv.tris[a], &pc.tris[b]);
+                let meets = (0..pv.poly.n).any(|a| {
+                    (0..pc.poly.n).any(|b| {
+                        let (ta, tb) = (&pv.poly.tris[a], &pc.poly.tris[b]);
                         cells.is_some_and(|cl| cl[a].meets_triangle(tb))
-                            || (!Plane::of(ta).separates(tb)
-                                && !Plane::of(tb).separates(ta)
+                            || (!pv.planes[a].separates(tb)
+                                && !pc.planes[b].separates(ta)
                                 && triangles_intersect(ta, tb))
                     })
                 });
@@ -252,6 +293,16 @@ fn sort_by_axis(w: &mut Vec<Wide>, axis: usize, keys: &mut Vec<(u64, u32)>, tmp:
 }
 
 #[inline]
+fn meets_exact(v: &Aabb, c: &Aabb) -> bool {
+    (c.max[0] >= v.min[0])
+        & (c.min[0] <= v.max[0])
+        & (c.max[1] >= v.min[1])
+        & (c.min[1] <= v.max[1])
+        & (c.max[2] >= v.min[2])
+        & (c.min[2] <= v.max[2])
+}
+
+#[inline]
 fn meets_f32(v: &[f64; 6], c: &Aabb) -> bool {
     let f = f64::from;
     (f(c.max[0]) >= v[0])
@@ -288,6 +339,18 @@ fn box_pairs(
     };
     if vb.len() * cb.len() <= SWEEP_ABOVE || vb.len() == 1 || cb.len() == 1 {
         // Brute force, straight over the f32 boxes (no copies).
+        if h == 0.0 {
+            // Exact in f32: no conversions.
+            for (i, v) in vb.iter().enumerate() {
+                out.extend(
+                    cb.iter()
+                        .enumerate()
+                        .filter(|(_, c)| meets_exact(v, c))
+                        .map(|(j, _)| (i as u32, j as u32)),
+                );
+            }
+            return;
+        }
         for (i, v) in vb.iter().enumerate() {
             let w = widen(v, h, i).b;
             out.extend(
