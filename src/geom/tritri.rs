@@ -28,6 +28,11 @@ pub fn triangles_intersect(t: &[P3; 3], u: &[P3; 3]) -> bool {
     if strictly_one_side(&tu) {
         return false;
     }
+    if ut.iter().chain(&tu).all(|&o| o != 0.0) {
+        // General position (no vertex on the other's plane, so neither triangle is
+        // degenerate): Guigue and Devillers' test, two more exact orientations.
+        return general_position(t, u, [-tu[0], -tu[1], -tu[2]], [-ut[0], -ut[1], -ut[2]]);
+    }
     let t_flat = collinear(&t[0], &t[1], &t[2]);
     let u_flat = collinear(&u[0], &u[1], &u[2]);
     for i in 0..3 {
@@ -91,6 +96,70 @@ impl Plane {
         }
         pos || neg
     }
+}
+
+/// Guigue and Devillers, "Fast and robust triangle-triangle overlap test using orientation
+/// predicates" (JGT 2003), for triangles whose vertices all lie strictly off the other's
+/// plane. `d1[i]` is the orientation of `t[i]` against `u`'s plane and `d2[i]` that of
+/// `u[i]` against `t`'s, both with the paper's sign (`det[q-p, r-p, x-p]`), none zero.
+/// The vertices are permuted so that one vertex of each triangle is alone on its side;
+/// the intervals the two triangles cut on the planes' common line then overlap exactly
+/// when two orientations are not positive.
+fn general_position(t: &[P3; 3], u: &[P3; 3], d1: [f64; 3], d2: [f64; 3]) -> bool {
+    let (p1, q1, r1) = (&t[0], &t[1], &t[2]);
+    let (p2, q2, r2) = (&u[0], &u[1], &u[2]);
+    if d1[0] > 0.0 {
+        if d1[1] > 0.0 {
+            gd_second(r1, p1, q1, p2, r2, q2, d2[0], d2[2], d2[1])
+        } else if d1[2] > 0.0 {
+            gd_second(q1, r1, p1, p2, r2, q2, d2[0], d2[2], d2[1])
+        } else {
+            gd_second(p1, q1, r1, p2, q2, r2, d2[0], d2[1], d2[2])
+        }
+    } else if d1[1] < 0.0 {
+        gd_second(r1, p1, q1, p2, q2, r2, d2[0], d2[1], d2[2])
+    } else if d1[2] < 0.0 {
+        gd_second(q1, r1, p1, p2, q2, r2, d2[0], d2[1], d2[2])
+    } else {
+        gd_second(p1, q1, r1, p2, r2, q2, d2[0], d2[2], d2[1])
+    }
+}
+
+/// The paper's TRI_TRI_3D: permutes the second triangle, then CHECK_MIN_MAX.
+#[allow(clippy::too_many_arguments)]
+fn gd_second(
+    p1: &P3,
+    q1: &P3,
+    r1: &P3,
+    p2: &P3,
+    q2: &P3,
+    r2: &P3,
+    dp2: f64,
+    dq2: f64,
+    dr2: f64,
+) -> bool {
+    if dp2 > 0.0 {
+        if dq2 > 0.0 {
+            gd_check(p1, r1, q1, r2, p2, q2)
+        } else if dr2 > 0.0 {
+            gd_check(p1, r1, q1, q2, r2, p2)
+        } else {
+            gd_check(p1, q1, r1, p2, q2, r2)
+        }
+    } else if dq2 < 0.0 {
+        gd_check(p1, q1, r1, r2, p2, q2)
+    } else if dr2 < 0.0 {
+        gd_check(p1, q1, r1, q2, r2, p2)
+    } else {
+        gd_check(p1, r1, q1, p2, q2, r2)
+    }
+}
+
+/// The paper's CHECK_MIN_MAX: `det[p2-q1, p1-q1, q2-q1] <= 0` and
+/// `det[p2-p1, r1-p1, r2-p1] <= 0`.
+#[inline]
+fn gd_check(p1: &P3, q1: &P3, r1: &P3, p2: &P3, q2: &P3, r2: &P3) -> bool {
+    orient3d(p2, p1, q2, q1) <= 0.0 && orient3d(p2, r1, r2, p1) <= 0.0
 }
 
 #[inline]
@@ -317,6 +386,53 @@ mod tests {
             &t,
             &tri([-1.0, 0.3, 0.0], [2.0, 0.3, 0.0], [2.0, 0.3, 0.0])
         ));
+    }
+
+    /// The general-position path against the edge-by-edge test on many random pairs,
+    /// in general position and on small integer grids (where ties send it elsewhere).
+    #[test]
+    fn general_position_agrees_with_the_edge_test() {
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        let (mut fast, mut hits) = (0, 0);
+        for i in 0..200_000 {
+            let grid = i % 2 == 0;
+            let mut c = || {
+                let r = next();
+                if grid {
+                    f64::from((r % 5) as u32)
+                } else {
+                    f64::from(((r >> 11) % 1_000_000) as f32 / 250_000.0)
+                }
+            };
+            let t = [[c(), c(), c()], [c(), c(), c()], [c(), c(), c()]];
+            let u = [[c(), c(), c()], [c(), c(), c()], [c(), c(), c()]];
+            let ut = [0, 1, 2].map(|k| orient3d(&t[0], &t[1], &t[2], &u[k]));
+            let tu = [0, 1, 2].map(|k| orient3d(&u[0], &u[1], &u[2], &t[k]));
+            if strictly_one_side(&ut)
+                || strictly_one_side(&tu)
+                || ut.iter().chain(&tu).any(|&o| o == 0.0)
+            {
+                continue;
+            }
+            fast += 1;
+            let want = (0..3).any(|k| {
+                segment_triangle(&u[k], &u[(k + 1) % 3], [ut[k], ut[(k + 1) % 3]], &t, false)
+                    || segment_triangle(&t[k], &t[(k + 1) % 3], [tu[k], tu[(k + 1) % 3]], &u, false)
+            });
+            let got = general_position(&t, &u, tu.map(|x| -x), ut.map(|x| -x));
+            assert_eq!(got, want, "t {t:?} u {u:?}");
+            hits += usize::from(want);
+        }
+        assert!(
+            fast > 10_000 && hits > 1_000,
+            "{fast} general-position pairs, {hits} meeting"
+        );
     }
 
     #[test]
