@@ -28,7 +28,7 @@
 mod common;
 
 use common::backends::{factories, Factory};
-use common::{brute_force_exact, oracle, TestMesh};
+use common::{brute_force_exact, polygon_distance, TestMesh};
 
 /// Where and how big a case is.
 #[derive(Clone, Copy, Debug)]
@@ -585,15 +585,7 @@ fn check(
             if exact.binary_search(&(a, b)).is_ok() {
                 continue;
             }
-            let d = r
-                .tris(a as usize)
-                .iter()
-                .flat_map(|t| {
-                    o.tris(b as usize)
-                        .into_iter()
-                        .map(move |u| oracle::triangle_distance(t, &u))
-                })
-                .fold(f64::INFINITY, f64::min);
+            let d = polygon_distance(r, a as usize, o, b as usize);
             assert!(
                 d <= h + slack,
                 "{}: {label}, epsilon {e}: extra pair ({a}, {b}) at distance {d:e}, beyond epsilon/2 = {h:e}",

@@ -16,7 +16,7 @@
 mod common;
 
 use common::backends::{factories, Factory, Hit};
-use common::{brute_force_exact, oracle, TestMesh};
+use common::{brute_force_exact, polygon_distance, TestMesh};
 use proptest::prelude::*;
 
 const CASES: u32 = 48;
@@ -124,15 +124,7 @@ fn check_band(ms: &[TestMesh], exact: &[Vec<Hit>], got: &[Vec<Hit>], e: f32) {
                 continue;
             }
             let (r, om) = (&ms[i], &ms[o as usize - 1]);
-            let d = r
-                .tris(a as usize)
-                .iter()
-                .flat_map(|t| {
-                    om.tris(b as usize)
-                        .into_iter()
-                        .map(move |u| oracle::triangle_distance(t, &u))
-                })
-                .fold(f64::INFINITY, f64::min);
+            let d = polygon_distance(r, a as usize, om, b as usize);
             assert!(
                 d <= h + 1e-9 * (h + 4.0) + 1e-12,
                 "mesh {}: extra ({o}, {a}, {b}) at distance {d} > epsilon/2 = {h}",

@@ -51,15 +51,7 @@ fn check_frame(
             .map(|k| (hi[k] as f64).abs().max(lo[k] as f64).abs())
             .fold(1.0, f64::max);
         for &(a, b) in got.iter().filter(|p| exact.binary_search(p).is_err()) {
-            let d = r
-                .tris(a as usize)
-                .iter()
-                .flat_map(|t| {
-                    o.tris(b as usize)
-                        .into_iter()
-                        .map(move |u| oracle::triangle_distance(t, &u))
-                })
-                .fold(f64::INFINITY, f64::min);
+            let d = polygon_distance(r, a as usize, o, b as usize);
             assert!(
                 d <= eps / 2.0 + 1e-12 * scale,
                 "{what}: extra pair ({a},{b}) is {d} apart, band is {}",

@@ -69,6 +69,19 @@ impl TestMesh {
     }
 }
 
+/// Distance between polygon `a` of `r` and polygon `b` of `o` (the closest of their
+/// triangles), 0 when they meet.
+pub fn polygon_distance(r: &TestMesh, a: usize, o: &TestMesh, b: usize) -> f64 {
+    r.tris(a)
+        .iter()
+        .flat_map(|t| {
+            o.tris(b)
+                .into_iter()
+                .map(move |u| oracle::triangle_distance(t, &u))
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Every polygon pair (reference polygon, other polygon) whose closed polygons meet, by
 /// brute force over the pairs whose boxes (grown by `pad`) overlap, with the exact oracle.
 pub fn brute_force_exact(r: &TestMesh, o: &TestMesh) -> Vec<(u32, u32)> {
