@@ -15,7 +15,8 @@
 //! the origin: there the gap is one ulp, 2^-14 or 2^-7). Slivers have an aspect ratio of
 //! about 1e6 (width 2^-20 of the size, also at least one ulp).
 //!
-//! Checks, on every backend of `common::backends::factories()`:
+//! Checks, on every backend of `common::backends::factories()` (and, in
+//! `every_case_in_every_frame_on_the_gl_backends`, on the GL backends of `gl_factories()`):
 //! - epsilon = 0: exactly the oracle's set of intersecting polygon pairs;
 //! - epsilon = e > 0: a superset of that set, and every extra pair within e/2 of each
 //!   other (f64 distance from the oracle's closest-point code), plus a rounding slack of
@@ -27,7 +28,7 @@
 
 mod common;
 
-use common::backends::{factories, Factory};
+use common::backends::{factories, gl_factories, Factory};
 use common::{brute_force_exact, polygon_distance, TestMesh};
 
 /// Where and how big a case is.
@@ -640,6 +641,62 @@ fn every_case_in_every_frame_matches_the_oracle() {
     }
     assert!(checked > 500, "{checked}");
     eprintln!("checked {checked}");
+}
+
+/// The GL backends on every case in every frame (and each case moved away by the largest
+/// gap): every intersecting pair found, extras within epsilon/2. One scene per backend,
+/// frame and epsilon (shaders compile once), meshes made and destroyed per case. Only
+/// epsilons above the GL minimum (2^-20 of the meshes' extent) run.
+#[test]
+fn every_case_in_every_frame_on_the_gl_backends() {
+    let mut checked = 0;
+    for f in gl_factories() {
+        for frame in FRAMES {
+            let size = 2.0 * frame.scale;
+            for rel in EPSILONS.into_iter().filter(|&r| r >= 1e-4) {
+                let e = (rel * size) as f32;
+                let h = f64::from(e) / 2.0;
+                let mut s = (f.make)(e, 0);
+                for c in cases() {
+                    for gap in std::iter::once(None).chain(c.away.map(|_| Some(GAPS[0]))) {
+                        let (r, o) = realize(&c, frame, gap, 0.0);
+                        let (r, o) = (mesh(r), mesh(o));
+                        let max_coord = r
+                            .pos
+                            .iter()
+                            .chain(&o.pos)
+                            .flat_map(|p| p.iter())
+                            .fold(0.0f64, |m, &c| m.max(f64::from(c).abs()));
+                        let slack = 1e-9 * (h + size) + 8.0 * f64::EPSILON * max_coord;
+                        let label = format!(
+                            "{}: {} in {} (gap {gap:?}), epsilon {e}",
+                            f.name, c.name, frame.name
+                        );
+                        let exact = brute_force_exact(&r, &o);
+                        let (ri, oi) = (s.add(&r), s.add(&o));
+                        let got = s.pairs(ri, oi);
+                        s.destroy(ri);
+                        s.destroy(oi);
+                        for p in &exact {
+                            assert!(
+                                got.binary_search(p).is_ok(),
+                                "{label}: intersecting pair {p:?} missed"
+                            );
+                        }
+                        for &(a, b) in got.iter().filter(|p| exact.binary_search(p).is_err()) {
+                            let d = polygon_distance(&r, a as usize, &o, b as usize);
+                            assert!(
+                                d <= h + slack,
+                                "{label}: extra pair ({a}, {b}) at distance {d:e} > {h:e}"
+                            );
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 200, "{checked}");
 }
 
 /// Reference and other swapped: the same pairs, mirrored, at epsilon = 0.

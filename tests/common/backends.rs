@@ -42,7 +42,39 @@ pub struct Factory {
     pub exact: bool,
 }
 
-/// Every backend this build can run here.
+/// The GL backends, each scene made on this thread's own headless EGL context (Mesa
+/// llvmpipe; compatibility profile, so both GL backends run). Their smallest epsilon is
+/// 2^-20 of the meshes' extent (smaller ones are raised), so they are not exact.
+pub fn gl_factories() -> Vec<Factory> {
+    vec![
+        Factory {
+            name: "GL_SELECT (C ABI, EGL)",
+            make: |e, leaf| gl_scene(GlcolBackend::GlSelect, e, leaf),
+            exact: false,
+        },
+        Factory {
+            name: "GL_COMPUTE (C ABI, EGL)",
+            make: |e, leaf| gl_scene(GlcolBackend::GlCompute, e, leaf),
+            exact: false,
+        },
+    ]
+}
+
+#[path = "../gl_support/mod.rs"]
+mod gl_support;
+
+thread_local! {
+    /// A context per test thread, current from first use until the thread ends (after
+    /// the thread's scenes are dropped).
+    static GL_CONTEXT: gl_support::Ctx = gl_support::Ctx::new(gl_support::Profile::Compat);
+}
+
+fn gl_scene(backend: GlcolBackend, epsilon: f32, leaf: u32) -> Box<dyn TestScene> {
+    GL_CONTEXT.with(|_| ());
+    Box::new(FfiScene(gl_support::scene(backend, epsilon, leaf)))
+}
+
+/// Every backend this build can run here without a GL context.
 pub fn factories() -> Vec<Factory> {
     vec![
         Factory {
