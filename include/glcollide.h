@@ -23,14 +23,6 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// Volume padding relative to the local size of a volume and its candidates: 2^-16, about
-// 256 float ulps, well above the rounding of the transform and of clipping.
-#define PAD_REL (1.0 / 65536.0)
-
-// The smallest epsilon the GL backends use, relative to the largest extent of the meshes
-// of a query: a smaller epsilon (0 included) is raised to `MIN_RELATIVE_EPSILON × extent`.
-#define MIN_RELATIVE_EPSILON (1.0 / 1048576.0)
-
 // ABI version: bumps on any incompatible change of the C API (and with it the soname).
 #define GLCOL_ABI_VERSION 1
 
