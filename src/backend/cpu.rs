@@ -20,7 +20,7 @@ use crate::geom::volume::Cell;
 use crate::geom::{Aabb, P3};
 
 /// Groups with at most this many volume-candidate tests are paired by brute force.
-const SWEEP_ABOVE: usize = 96;
+const SWEEP_ABOVE: usize = 1024;
 
 /// Polygon boxes of one mesh, computed on first use and valid while the mesh's positions
 /// do not change (its generation): a polygon is boxed once per frame, however many steps
