@@ -65,9 +65,15 @@ fn every_macro_and_type_is_prefixed() {
     for l in generate().lines() {
         if let Some(rest) = l.strip_prefix("#define ") {
             let name = rest.split_whitespace().next().unwrap_or("");
-            assert!(name.starts_with("GLCOL_") || name == "GLCOLLIDE_H", "unprefixed macro {name}");
+            assert!(
+                name.starts_with("GLCOL_") || name == "GLCOLLIDE_H",
+                "unprefixed macro {name}"
+            );
         }
-        if let Some(rest) = l.strip_prefix("typedef struct ").or_else(|| l.strip_prefix("typedef enum ")) {
+        if let Some(rest) = l
+            .strip_prefix("typedef struct ")
+            .or_else(|| l.strip_prefix("typedef enum "))
+        {
             assert!(rest.starts_with("Glcol"), "unprefixed type in: {l}");
         }
     }

@@ -149,7 +149,10 @@ mod tests {
             .to_str()
             .unwrap()
             .to_owned();
-        assert!(msg.contains("boom 42") && msg.contains("guard.rs:"), "{msg}");
+        assert!(
+            msg.contains("boom 42") && msg.contains("guard.rs:"),
+            "{msg}"
+        );
         assert_eq!(guard_or(7, || panic!("x")), 7);
     }
 
