@@ -99,7 +99,9 @@ typedef struct GlcolSceneDesc {
   // Passed back to `get_proc_address`.
   void *user_data;
   // Viewing-volume depth in model units (the paper used 0.001). 0 on the CPU backend:
-  // exact intersection of the closed polygons. Default 0. Must be finite and >= 0.
+  // exact intersection of the closed polygons. Default 0. Must be finite and >= 0. The
+  // GL backends raise a smaller epsilon than 2^-20 of the meshes' largest extent (0
+  // included) to that minimum for each query.
   float epsilon;
   // Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
   // above).

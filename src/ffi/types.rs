@@ -76,7 +76,9 @@ pub struct GlcolSceneDesc {
     /// Passed back to `get_proc_address`.
     pub user_data: *mut c_void,
     /// Viewing-volume depth in model units (the paper used 0.001). 0 on the CPU backend:
-    /// exact intersection of the closed polygons. Default 0. Must be finite and >= 0.
+    /// exact intersection of the closed polygons. Default 0. Must be finite and >= 0. The
+    /// GL backends raise a smaller epsilon than 2^-20 of the meshes' largest extent (0
+    /// included) to that minimum for each query.
     pub epsilon: f32,
     /// Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
     /// above).
