@@ -24,8 +24,11 @@ pub struct QueryStats {
     pub tests: [usize; 5],
     /// Hits returned, steps 1 to 5.
     pub hits: [usize; 5],
-    /// Time the backend took for each step, nanoseconds.
+    /// Time the backend took for each step, nanoseconds (a backend that runs the whole
+    /// query at once reports all of it under step 1).
     pub nanos: [u64; 5],
+    /// GL read-backs (buffer reads or maps that wait for the GPU) the query made.
+    pub readbacks: u32,
 }
 
 /// Buffers reused from query to query.
@@ -75,6 +78,11 @@ pub fn run(
 ) -> Result<()> {
     out.clear();
     ws.stats = QueryStats::default();
+    if sel.run_query(q, out, &mut ws.stats)? {
+        out.sort_unstable();
+        out.dedup();
+        return Ok(());
+    }
     let h = q.half_depth;
     let reference = q.meshes[0].1;
 

@@ -165,7 +165,13 @@ impl Scene {
         if !self.meshes.contains_key(&reference) {
             return Err(unknown(reference));
         }
-        self.selector.prepare(&mut self.meshes)?;
+        self.selector.take_readbacks();
+        let prepared = self.selector.prepare(&mut self.meshes);
+        self.workspace.stats = QueryStats::default();
+        if let Err(e) = prepared {
+            self.workspace.stats.readbacks = self.selector.take_readbacks();
+            return Err(e);
+        }
         let r = self
             .meshes
             .get(&reference)
@@ -192,6 +198,10 @@ impl Scene {
             Ok(())
         };
         std::mem::swap(&mut out, &mut self.contacts);
+        if res.is_err() {
+            self.workspace.stats = QueryStats::default();
+        }
+        self.workspace.stats.readbacks = self.selector.take_readbacks();
         res?;
         Ok(&self.contacts)
     }

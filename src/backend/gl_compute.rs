@@ -4,11 +4,16 @@
 //! - Every mesh's positions live in one buffer object (an arena of xyz floats, all meshes),
 //!   uploaded when a mesh's positions change, or gathered on the GPU from the host's own
 //!   buffer object (`glcol_mesh_bind_gl_buffer`: no copy through the CPU).
-//! - Leaf boxes of buffer-bound meshes are refitted on the GPU (one thread per leaf) before
-//!   each query, and read back once (a few bytes per leaf) so the query's box bookkeeping
-//!   sees them.
-//! - Each step is one dispatch: every (volume, candidate) test of the batch, one thread
-//!   each; hits are appended through an atomic counter and read back once.
+//! - The whole query runs on the GPU ([`Selector::run_query`], shaders/query.glsl): leaf
+//!   boxes refitted (one thread per leaf) and the reference root reduced, step 1 one thread
+//!   per other leaf, steps 2 to 5 one workgroup per step-1 hit or per leaf pair, sized on the
+//!   GPU (indirect dispatch). Each step appends through atomic counters into buffers the
+//!   next step reads; the CPU reads one buffer once, at the end (a header of counters, then
+//!   the step-5 hits). When an answer outgrows a buffer (the counters keep counting), the
+//!   buffers grow to fit and the query runs again: `QueryStats::readbacks` counts both.
+//! - The step-by-step path (one dispatch per [`Batch`] through [`Selector::select`], with
+//!   a read-back per step) is kept behind [`GlComputeSelector::set_whole_query`]: the tests
+//!   check both against each other.
 //! - Box tests are padded (float rounding can only add pairs); the polygon viewing volume
 //!   of step 5 is clipped in double precision in a frame local to the reference polygon.
 //!   When every mesh of the query has its positions on the CPU too, each step-5 hit is
@@ -29,14 +34,19 @@ use crate::geom::Aabb;
 use crate::gpu::state::{StateGuard, Uses};
 use crate::gpu::{buffer, unavailable, Gl};
 use crate::mesh::Mesh;
+use crate::query::{Contact, QueryStats};
 
 const COMMON: &str = include_str!("../gpu/shaders/common.glsl");
 const GATHER: &str = include_str!("../gpu/shaders/gather.glsl");
 const REFIT: &str = include_str!("../gpu/shaders/refit.glsl");
+const MEETS: &str = include_str!("../gpu/shaders/meets.glsl");
 const SELECT: &str = include_str!("../gpu/shaders/select.glsl");
+const QUERY: &str = include_str!("../gpu/shaders/query.glsl");
 
 /// Indexed buffer bindings the shaders use (0..BINDINGS).
-const BINDINGS: u32 = 10;
+const BINDINGS: u32 = 12;
+/// Shader storage blocks the busiest kernel uses.
+const BLOCKS: u32 = 7;
 const GROUP: u32 = 64;
 
 /// Where a mesh lives in the arenas.
@@ -64,9 +74,29 @@ struct Objects {
     gather: glow::NativeProgram,
     refit: glow::NativeProgram,
     select: glow::NativeProgram,
-    /// positions (slots), polys, vols, cands, groups, hits, leaf slot ranges, slot -> vertex,
-    /// boxes
-    buffers: [glow::NativeBuffer; 9],
+    /// The whole-query kernels of query.glsl: refit + root, step 1, dispatch sizes, step 2,
+    /// steps 3 and 4, step 5.
+    query: [glow::NativeProgram; 6],
+    /// See the buffer constants (POS ... RESULT).
+    buffers: [glow::NativeBuffer; NBUF],
+}
+
+/// Room in the whole-query buffers (entries); grown when a query's answer needs more.
+#[derive(Clone, Copy, Debug)]
+struct Caps {
+    pairs: u32,
+    lists: u32,
+    hits: u32,
+}
+
+impl Default for Caps {
+    fn default() -> Caps {
+        Caps {
+            pairs: 1 << 14,
+            lists: 1 << 20,
+            hits: 1 << 16,
+        }
+    }
 }
 
 /// The GL_COMPUTE backend.
@@ -75,6 +105,13 @@ pub struct GlComputeSelector {
     obj: Option<Objects>,
     slots: BTreeMap<u32, Slot>,
     bound: BTreeMap<u32, Bound>,
+    /// Run the whole query on the GPU (default) rather than step by step.
+    whole_query: bool,
+    caps: Caps,
+    /// Read-backs since `take_readbacks`.
+    readbacks: u32,
+    /// Capacities the GPU buffers were last sized for (None: never).
+    sized: Option<(Caps, u32)>,
     /// Scratch for a batch.
     vols: Vec<u32>,
     cands: Vec<u32>,
@@ -93,7 +130,7 @@ fn gl_err(e: String) -> Error {
 
 unsafe fn compile(g: &glow::Context, name: &str, body: &str) -> Result<glow::NativeProgram> {
     let sh = g.create_shader(glow::COMPUTE_SHADER).map_err(gl_err)?;
-    let src = format!("{COMMON}\n#line 1 1\n{body}");
+    let src = format!("{COMMON}\n#line 1 1\n{MEETS}\n#line 1 2\n{body}");
     g.shader_source(sh, &src);
     g.compile_shader(sh);
     if !g.get_shader_compile_status(sh) {
@@ -129,11 +166,29 @@ impl GlComputeSelector {
                 gl.info.version_string
             )));
         }
+        let (bindings, blocks) = unsafe {
+            (
+                gl.gl
+                    .get_parameter_i32(glow::MAX_SHADER_STORAGE_BUFFER_BINDINGS),
+                gl.gl
+                    .get_parameter_i32(glow::MAX_COMPUTE_SHADER_STORAGE_BLOCKS),
+            )
+        };
+        if bindings < BINDINGS as i32 || blocks < BLOCKS as i32 {
+            return Err(unavailable(format!(
+                "GLCOL_BACKEND_GL_COMPUTE needs {BINDINGS} shader storage buffer bindings and \
+                 {BLOCKS} storage blocks per compute shader; this GL has {bindings} and {blocks}"
+            )));
+        }
         let mut s = GlComputeSelector {
             gl,
             obj: None,
             slots: BTreeMap::new(),
             bound: BTreeMap::new(),
+            whole_query: true,
+            caps: Caps::default(),
+            readbacks: 0,
+            sized: None,
             vols: Vec::new(),
             cands: Vec::new(),
             groups: Vec::new(),
@@ -145,12 +200,23 @@ impl GlComputeSelector {
             (|| -> Result<Objects> {
                 let gather = compile(g, "gather", GATHER)?;
                 let refit = compile(g, "refit", REFIT).inspect_err(|_| g.delete_program(gather))?;
-                let select = compile(g, "select", SELECT).inspect_err(|_| {
-                    g.delete_program(gather);
-                    g.delete_program(refit);
-                })?;
+                let mut programs = vec![gather, refit];
+                let fail = |programs: &[glow::NativeProgram]| {
+                    for &p in programs {
+                        g.delete_program(p);
+                    }
+                };
+                let select = compile(g, "select", SELECT).inspect_err(|_| fail(&programs))?;
+                programs.push(select);
+                let mut query = Vec::new();
+                for k in 1..=6 {
+                    let body = format!("#define KERNEL {k}\n#line 1 3\n{QUERY}");
+                    let p = compile(g, "query", &body).inspect_err(|_| fail(&programs))?;
+                    programs.push(p);
+                    query.push(p);
+                }
                 let mut buffers = Vec::new();
-                for _ in 0..9 {
+                for _ in 0..NBUF {
                     let b = g.create_buffer().map_err(gl_err)?;
                     g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
                     g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
@@ -160,6 +226,7 @@ impl GlComputeSelector {
                     gather,
                     refit,
                     select,
+                    query: query.try_into().unwrap(),
                     buffers: buffers.try_into().unwrap(),
                 })
             })()
@@ -191,8 +258,24 @@ const HITS: usize = 5;
 const LEAF_RANGE: usize = 6;
 const LEAF_VERTS: usize = 7;
 const BOXES: usize = 8;
-/// Shader binding of each buffer (the host source buffer is binding 6).
-const BINDING: [u32; 9] = [0, 1, 2, 3, 4, 5, 7, 8, 9];
+/// Whole query: first and end global polygon of each global leaf.
+const LEAF_POLYS: usize = 9;
+/// Whole query: (first global leaf, leaves, first thread) of each other mesh.
+const OTHERS: usize = 10;
+/// Whole query: step-1 hits (global leaf ids).
+const L1: usize = 11;
+/// Whole query: leaf pairs (6 words each).
+const PAIRS: usize = 12;
+/// Whole query: each pair's step-3 and step-4 polygon lists.
+const LISTS: usize = 13;
+/// Whole query: a 64-word header of counters, then the step-5 hits.
+const RESULT: usize = 14;
+const NBUF: usize = 15;
+/// Shader binding of each buffer (the host source buffer is binding 6; the whole query's
+/// buffers reuse the step path's binding points 2 to 5).
+const BINDING: [u32; NBUF] = [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 2, 3, 4, 5];
+/// Words of the whole query's result header.
+const HEADER: usize = 64;
 
 unsafe fn upload(g: &glow::Context, b: glow::NativeBuffer, data: &[u8]) {
     g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
@@ -231,6 +314,7 @@ impl GlComputeSelector {
         let mut polys: Vec<u32> = Vec::new();
         let mut range: Vec<u32> = Vec::new();
         let mut verts: Vec<u32> = Vec::new();
+        let mut leaf_polys: Vec<u32> = Vec::new();
         for (&id, m) in meshes {
             let k = m.k;
             let nslots = m.slot_positions().len() as u32;
@@ -244,6 +328,7 @@ impl GlComputeSelector {
             let lv = &m.leaves;
             for l in 0..lv.len() {
                 range.extend([lv.leaf_slots[l] + vb, lv.leaf_slots[l + 1] + vb]);
+                leaf_polys.extend([lv.leaf_polys[l] + pb, lv.leaf_polys[l + 1] + pb]);
             }
             verts.extend_from_slice(m.slot_vertices());
             self.slots.insert(
@@ -272,6 +357,7 @@ impl GlComputeSelector {
         upload(g, b[POLYS], bytes(&polys));
         upload(g, b[LEAF_RANGE], bytes(&range));
         upload(g, b[LEAF_VERTS], bytes(&verts));
+        upload(g, b[LEAF_POLYS], bytes(&leaf_polys));
         g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[BOXES]));
         g.buffer_data_size(
             glow::SHADER_STORAGE_BUFFER,
@@ -326,6 +412,10 @@ impl GlComputeSelector {
                 dispatch(g, o.gather, s.vertices);
             }
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
+            if self.whole_query {
+                // run_query refits every leaf and checks the boxes on the GPU.
+                return self.gl.check("gathering positions from host buffers");
+            }
             g.use_program(Some(o.refit));
             let leaves: u32 = self.slots.values().map(|s| s.leaves).sum();
             dispatch(g, o.refit, leaves);
@@ -335,6 +425,7 @@ impl GlComputeSelector {
             raw.resize(leaves as usize * 24, 0);
             g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
             g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 0, &mut raw);
+            self.readbacks += 1;
             for id in self.bound.keys() {
                 let s = &self.slots[id];
                 let m = meshes.get_mut(id).unwrap();
@@ -366,6 +457,231 @@ impl GlComputeSelector {
             self.raw = raw;
             self.gl.check("reading leaf boxes back")
         }
+    }
+
+    /// Whole query (default) or one dispatch and read-back per step.
+    pub fn set_whole_query(&mut self, on: bool) {
+        self.whole_query = on;
+    }
+
+    /// Room the whole query's buffers start from (leaf pairs, step-3/4 list words, step-5
+    /// hits); they grow when a query needs more. For tests of the growth path.
+    pub fn set_room(&mut self, pairs: u32, lists: u32, hits: u32) {
+        self.caps = Caps {
+            pairs: pairs.max(1),
+            lists: lists.max(1),
+            hits: hits.max(1),
+        };
+    }
+
+    /// Sizes the whole query's buffers for `caps` and `l1` step-1 hits.
+    unsafe fn size_query_buffers(&mut self, l1: u32) {
+        if self.sized.is_some_and(|(c, l)| {
+            c.pairs == self.caps.pairs
+                && c.lists == self.caps.lists
+                && c.hits == self.caps.hits
+                && l >= l1
+        }) {
+            return;
+        }
+        let g = &self.gl.gl;
+        let b = &self.obj.as_ref().unwrap().buffers;
+        let c = self.caps;
+        let l1 = l1.max(self.sized.map_or(0, |(_, l)| l));
+        for (buf, words) in [
+            (L1, l1 as usize),
+            (PAIRS, 6 * c.pairs as usize),
+            (LISTS, c.lists as usize),
+            (RESULT, HEADER + 2 * c.hits as usize),
+        ] {
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[buf]));
+            g.buffer_data_size(
+                glow::SHADER_STORAGE_BUFFER,
+                (4 * words).max(16) as i32,
+                if buf == RESULT {
+                    glow::DYNAMIC_READ
+                } else {
+                    glow::DYNAMIC_COPY
+                },
+            );
+        }
+        self.sized = Some((c, l1));
+    }
+
+    /// Steps 1 to 5 on the GPU, one read-back (see the module's documentation).
+    fn query_inner(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) -> Result<()> {
+        let h = effective_half_depth(q);
+        let t0 = std::time::Instant::now();
+        let reference = &self.slots[&q.meshes[0].0];
+        let (ref_base, ref_leaves) = (reference.leaf_base, reference.leaves);
+        // Other meshes: (first global leaf, leaves, first thread); polygon bases for mapping
+        // hits back, sorted.
+        let mut others: Vec<u32> = Vec::with_capacity(3 * q.meshes.len());
+        let mut l1_cap = 0u32;
+        let mut bases: Vec<(u32, u32)> = Vec::with_capacity(q.meshes.len());
+        for (mi, (id, _)) in q.meshes.iter().enumerate() {
+            let s = &self.slots[id];
+            bases.push((s.poly_base, mi as u32));
+            if mi > 0 {
+                others.extend([s.leaf_base, s.leaves, l1_cap]);
+                l1_cap = l1_cap.checked_add(s.leaves).ok_or_else(too_big)?;
+            }
+        }
+        bases.sort_unstable();
+        let all_leaves: u32 = self.slots.values().map(|s| s.leaves).sum();
+        let mut header = [0u32; HEADER];
+        header[12..15].fill(u32::MAX); // root minimum keys
+        let mut raw: Vec<u32> = Vec::new();
+        let mut runs = 0;
+        loop {
+            runs += 1;
+            let caps = self.caps;
+            unsafe { self.size_query_buffers(l1_cap) };
+            let g = &self.gl.gl;
+            unsafe {
+                let o = self.obj.as_ref().unwrap();
+                let b = &o.buffers;
+                upload(g, b[OTHERS], bytes(&others));
+                g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[RESULT]));
+                g.buffer_sub_data_u8_slice(glow::SHADER_STORAGE_BUFFER, 0, bytes(&header));
+                for k in [
+                    POS, POLYS, BOXES, LEAF_RANGE, LEAF_POLYS, OTHERS, L1, PAIRS, LISTS, RESULT,
+                ] {
+                    g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(b[k]));
+                }
+                g.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, Some(b[RESULT]));
+                let uniforms = |p: glow::NativeProgram| {
+                    g.use_program(Some(p));
+                    set_u32(g, p, "u_ref_leaf_base", ref_base);
+                    set_u32(g, p, "u_ref_leaves", ref_leaves);
+                    set_u32(g, p, "u_l1_cap", l1_cap);
+                    set_u32(g, p, "u_pair_cap", caps.pairs);
+                    set_u32(g, p, "u_list_cap", caps.lists);
+                    set_u32(g, p, "u_hit_cap", caps.hits);
+                    let l = g.get_uniform_location(p, "u_h");
+                    g.uniform_1_f32(l.as_ref(), (h * (1.0 + 1e-6)) as f32);
+                    let l = g.get_uniform_location(p, "u_pad_rel");
+                    g.uniform_1_f32(l.as_ref(), 1.0 / (1u64 << 40) as f32);
+                };
+                let [refit, step1, sizes, step2, step34, step5] = o.query;
+                let storage = glow::SHADER_STORAGE_BARRIER_BIT;
+                let command = storage | glow::COMMAND_BARRIER_BIT;
+                uniforms(refit);
+                dispatch(g, refit, all_leaves);
+                g.memory_barrier(storage);
+                uniforms(step1);
+                set_u32(g, step1, "u_others", q.meshes.len() as u32 - 1);
+                dispatch(g, step1, l1_cap);
+                g.memory_barrier(storage);
+                uniforms(sizes);
+                set_u32(g, sizes, "u_src", 0);
+                dispatch(g, sizes, 1);
+                g.memory_barrier(command);
+                uniforms(step2);
+                g.dispatch_compute_indirect(4 * 24);
+                g.memory_barrier(storage);
+                uniforms(sizes);
+                set_u32(g, sizes, "u_src", 1);
+                dispatch(g, sizes, 1);
+                g.memory_barrier(command);
+                uniforms(step34);
+                g.dispatch_compute_indirect(4 * 28);
+                g.memory_barrier(storage);
+                uniforms(step5);
+                g.dispatch_compute_indirect(4 * 28);
+                g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+                self.gl.check("the query dispatches")?;
+                // The one read-back: map the result, copy the header and the hits it counts.
+                g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[RESULT]));
+                let len = 4 * (HEADER + 2 * caps.hits as usize);
+                let p = g.map_buffer_range(
+                    glow::SHADER_STORAGE_BUFFER,
+                    0,
+                    len as i32,
+                    glow::MAP_READ_BIT,
+                );
+                if p.is_null() {
+                    self.gl.check("mapping the query's result")?;
+                    return Err(gl_err("glMapBufferRange returned NULL".into()));
+                }
+                let words = p.cast::<u32>();
+                let n = (*words.add(4)).min(caps.hits) as usize;
+                raw.clear();
+                raw.extend_from_slice(std::slice::from_raw_parts(words, HEADER + 2 * n));
+                g.unmap_buffer(glow::SHADER_STORAGE_BUFFER);
+                self.readbacks += 1;
+                self.gl.check("reading the query's result")?;
+            }
+            if raw[0] != 0 {
+                let ids: Vec<String> = self.bound.keys().map(u32::to_string).collect();
+                return Err(Error::new(
+                    ErrorKind::NonFinite,
+                    format!(
+                        "a GL buffer bound to mesh {} holds a NaN or infinite coordinate",
+                        ids.join(" or ")
+                    ),
+                ));
+            }
+            // Grow what overflowed; the counters after an overflowed one may be short, so
+            // loop until nothing overflows.
+            let grow = |need: u32, cap: u32| {
+                if need > cap {
+                    need.saturating_add(need / 2).max(cap.saturating_mul(2))
+                } else {
+                    cap
+                }
+            };
+            let next = Caps {
+                pairs: grow(raw[2], caps.pairs),
+                lists: grow(raw[3], caps.lists),
+                hits: grow(raw[4], caps.hits),
+            };
+            if next.pairs == caps.pairs && next.lists == caps.lists && next.hits == caps.hits {
+                break;
+            }
+            if runs >= 8 || [next.pairs, next.lists, next.hits].contains(&u32::MAX) {
+                return Err(too_big());
+            }
+            self.caps = next;
+        }
+        let r = &raw[..];
+        stats.tests = [
+            l1_cap as usize,
+            r[1] as usize * ref_leaves as usize,
+            r[5] as usize,
+            r[6] as usize,
+            ((r[10] as u64) << 32 | r[9] as u64) as usize,
+        ];
+        stats.hits = [r[1], r[2], r[7], r[8], r[4]].map(|x| x as usize);
+        // Global polygon id -> (mesh position, leaf-ordered polygon).
+        let locate = |gp: u32| {
+            let i = bases.partition_point(|&(b, _)| b <= gp) - 1;
+            let (base, mi) = bases[i];
+            (mi, gp - base)
+        };
+        let confirm = q.meshes.iter().all(|(id, _)| !self.bound.contains_key(id));
+        let ref_mesh = q.meshes[0].1;
+        for hit in raw[HEADER..].chunks_exact(2) {
+            let (rm, rp) = locate(hit[0]);
+            let (cm, cp) = locate(hit[1]);
+            debug_assert_eq!(rm, 0);
+            let (other_id, other) = q.meshes[cm as usize];
+            if confirm && !confirmed(ref_mesh, rp as usize, other, cp as usize, h) {
+                continue;
+            }
+            out.push(Contact {
+                other_mesh: other_id,
+                reference_polygon: ref_mesh.poly_ids[rp as usize],
+                other_polygon: other.poly_ids[cp as usize],
+            });
+        }
+        stats.nanos[0] = t0.elapsed().as_nanos() as u64;
+        Ok(())
     }
 
     fn select_inner(
@@ -452,10 +768,12 @@ impl GlComputeSelector {
             // One read-back: the counter, then the hits it counts.
             let mut head = [0u8; 4];
             g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 0, &mut head);
+            self.readbacks += 1;
             let n = u32::from_ne_bytes(head).min(cap) as usize;
             self.raw.resize(n * 8, 0);
             if n > 0 {
                 g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 8, &mut self.raw);
+                self.readbacks += 1;
             }
             n
         };
@@ -474,16 +792,7 @@ impl GlComputeSelector {
                     batch.volumes[hit.volume as usize],
                     batch.candidates[hit.candidate as usize],
                 );
-                let mut vt = [[[0.0; 3]; 3]; 2];
-                let nv = q.mesh(v).triangles(v.index as usize, &mut vt);
-                let mut ct = [[[0.0; 3]; 3]; 2];
-                let nc = q.mesh(c).triangles(c.index as usize, &mut ct);
-                let meets = (0..nv).any(|a| {
-                    let cell = Cell::of_triangle(&vt[a], h);
-                    (0..nc)
-                        .any(|b| cell.meets_triangle(&ct[b]) || triangles_intersect(&vt[a], &ct[b]))
-                });
-                if meets {
+                if confirmed(q.mesh(v), v.index as usize, q.mesh(c), c.index as usize, h) {
                     hits[w] = hit;
                     w += 1;
                 }
@@ -492,6 +801,26 @@ impl GlComputeSelector {
         }
         Ok(())
     }
+}
+
+/// The CPU backend's step-5 test: does polygon `c` of `cm` lie in the viewing volume of
+/// polygon `v` of `vm` (or meet it)?
+fn confirmed(vm: &Mesh, v: usize, cm: &Mesh, c: usize, h: f64) -> bool {
+    let mut vt = [[[0.0; 3]; 3]; 2];
+    let nv = vm.triangles(v, &mut vt);
+    let mut ct = [[[0.0; 3]; 3]; 2];
+    let nc = cm.triangles(c, &mut ct);
+    (0..nv).any(|a| {
+        let cell = Cell::of_triangle(&vt[a], h);
+        (0..nc).any(|b| cell.meets_triangle(&ct[b]) || triangles_intersect(&vt[a], &ct[b]))
+    })
+}
+
+fn too_big() -> Error {
+    Error::new(
+        ErrorKind::Unsupported,
+        "the query needs more GPU buffer room than 32-bit counts can address",
+    )
 }
 
 impl Selector for GlComputeSelector {
@@ -509,6 +838,24 @@ impl Selector for GlComputeSelector {
         done
     }
 
+    fn run_query(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) -> Result<bool> {
+        if !self.whole_query {
+            return Ok(false);
+        }
+        let gl: *const Gl = &self.gl;
+        // SAFETY: as in prepare.
+        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
+        let r = self.query_inner(q, out, stats);
+        let done = guard.finish();
+        r?;
+        done.map(|()| true)
+    }
+
     fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
         let gl: *const Gl = &self.gl;
         // SAFETY: as in prepare.
@@ -517,6 +864,10 @@ impl Selector for GlComputeSelector {
         let done = guard.finish();
         r?;
         done
+    }
+
+    fn take_readbacks(&mut self) -> u32 {
+        std::mem::take(&mut self.readbacks)
     }
 
     fn mesh_updated(&mut self, id: u32) {
@@ -580,6 +931,9 @@ impl Selector for GlComputeSelector {
                     g.delete_program(o.gather);
                     g.delete_program(o.refit);
                     g.delete_program(o.select);
+                    for p in o.query {
+                        g.delete_program(p);
+                    }
                     for b in o.buffers {
                         g.delete_buffer(b);
                     }

@@ -71,6 +71,8 @@ struct Scratch {
     select_buf: Vec<u32>,
     boxes: Vec<Aabb>,
     tris: Vec<([[P3; 3]; 2], usize, [bool; 2])>,
+    /// glRenderMode(GL_RENDER) calls (each waits for the GL) since `take_readbacks`.
+    readbacks: u32,
 }
 
 impl GlSelectSelector {
@@ -274,6 +276,10 @@ fn reach(o: &P3, boxes: &[Aabb]) -> f64 {
 impl Selector for GlSelectSelector {
     fn backend(&self) -> Backend {
         Backend::GlSelect
+    }
+
+    fn take_readbacks(&mut self) -> u32 {
+        std::mem::take(&mut self.s.readbacks)
     }
 
     fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
@@ -555,6 +561,7 @@ fn run_volume(
         }
         f.PopName();
         let n = f.RenderMode(RENDER);
+        sc.readbacks += 1;
         for k in 0..vol.planes.len() {
             gl.gl.disable(glow::CLIP_DISTANCE0 + k as u32);
         }

@@ -14,6 +14,7 @@ use std::collections::BTreeMap;
 
 use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::Mesh;
+use crate::query::{Contact, QueryStats};
 
 /// The backends of the C API.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -144,6 +145,24 @@ pub trait Selector: Send {
     /// written back here).
     fn prepare(&mut self, _meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
         Ok(())
+    }
+
+    /// Runs all five steps itself (a GPU backend that keeps every step's output on the GPU
+    /// and reads back only the answer): appends the contacts to `out` (any order; the caller
+    /// sorts them) and fills `stats`. `Ok(false)`: not supported, ask step by step through
+    /// [`Selector::select`].
+    fn run_query(
+        &mut self,
+        _q: &QueryMeshes<'_>,
+        _out: &mut Vec<Contact>,
+        _stats: &mut QueryStats,
+    ) -> Result<bool> {
+        Ok(false)
+    }
+
+    /// GL read-backs (reads that wait for the GL) since the last call.
+    fn take_readbacks(&mut self) -> u32 {
+        0
     }
 
     /// Mesh `id` got new positions from the CPU.

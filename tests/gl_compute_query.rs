@@ -1,0 +1,262 @@
+//! GL_COMPUTE's whole-query path (steps 1 to 5 on the GPU, one read-back) against its
+//! step-by-step path (one dispatch and read-back per step) and against the CPU backend, on
+//! real meshes, headless on Mesa (llvmpipe), in a core 4.5 context:
+//! - the same contacts as the CPU backend, every frame;
+//! - the same step-1 to step-4 hits as the step path (the same tests, run in another order);
+//! - exactly one GL read-back per query once the buffers have room, and a complete answer
+//!   when they have to grow mid-query (started with room for one entry each);
+//! - a NaN in a host buffer is reported as NON_FINITE, and the next good frame is answered.
+mod common;
+mod gl_support;
+
+use common::{place, shared_mesh, wave, TestMesh};
+use gl_support::{get_proc_address, Ctx, Profile};
+use glcollide::backend::gl_compute::GlComputeSelector;
+use glcollide::gpu::Gl;
+use glcollide::{Contact, ErrorKind, MeshId, Positions, QueryStats, Scene, SceneConfig};
+
+/// How the GL_COMPUTE scene is set up.
+#[derive(Clone, Copy, Debug)]
+enum Path {
+    Whole,
+    /// Whole query, buffers starting with room for one entry each.
+    WholeTiny,
+    Steps,
+}
+
+fn gl_scene(config: SceneConfig, path: Path) -> Scene {
+    let gl = unsafe { Gl::load(get_proc_address, std::ptr::null_mut()) }.expect("GL loads");
+    let mut sel = GlComputeSelector::new(gl).expect("GL_COMPUTE on llvmpipe");
+    match path {
+        Path::Whole => {}
+        Path::WholeTiny => sel.set_room(1, 1, 1),
+        Path::Steps => sel.set_whole_query(false),
+    }
+    Scene::with_selector(config, Box::new(sel)).unwrap()
+}
+
+fn add(s: &mut Scene, m: &TestMesh) -> MeshId {
+    s.create_mesh(Positions::from_points(&m.pos), &m.idx, m.k)
+        .unwrap()
+}
+
+/// A scene's meshes, moved frame by frame; the reference is mesh 0.
+struct Case {
+    meshes: Vec<TestMesh>,
+    /// frames[f][m]: positions of mesh m in frame f.
+    frames: Vec<Vec<Vec<[f32; 3]>>>,
+    /// Meshes disabled in every frame.
+    disabled: Vec<usize>,
+    epsilon: f32,
+}
+
+/// A contact with the other mesh named by its position in the case (ids differ by scene).
+type Found = (usize, u32, u32);
+
+/// Runs a case; per frame, the contacts and the stats.
+fn run(case: &Case, make: &dyn Fn(SceneConfig) -> Scene) -> Vec<(Vec<Found>, QueryStats)> {
+    let mut s = make(SceneConfig {
+        epsilon: case.epsilon,
+        max_polygons_per_box: 0,
+    });
+    let ids: Vec<MeshId> = case.meshes.iter().map(|m| add(&mut s, m)).collect();
+    for &d in &case.disabled {
+        s.set_enabled(ids[d], false).unwrap();
+    }
+    let out = case
+        .frames
+        .iter()
+        .map(|frame| {
+            for (id, p) in ids.iter().zip(frame) {
+                s.update_positions(*id, 0, Positions::from_points(p))
+                    .unwrap();
+            }
+            let at = |id: MeshId| ids.iter().position(|&i| i == id).unwrap();
+            let c: Vec<Found> = s
+                .query(ids[0])
+                .unwrap()
+                .iter()
+                .map(|c: &Contact| (at(c.other_mesh), c.reference_polygon, c.other_polygon))
+                .collect();
+            (c, s.stats())
+        })
+        .collect();
+    s.release_gl();
+    out
+}
+
+/// The blade through the gallbladder, a second gallbladder it also cuts, and a disabled
+/// liver in the way.
+fn instrument_case() -> Case {
+    let blade = TestMesh::from_obj(&shared_mesh("scissors_blade"));
+    let organ = TestMesh::from_obj(&shared_mesh("gallbladder_glt"));
+    let liver = TestMesh::from_obj(&shared_mesh("liver_glt"));
+    let far = *organ
+        .pos
+        .iter()
+        .max_by(|a, b| a[0].total_cmp(&b[0]))
+        .unwrap();
+    let frames = (0..4)
+        .map(|f| {
+            let o = wave(&organ.pos, 0.3, 0.1, f as f32);
+            let o2: Vec<[f32; 3]> = o.iter().map(|p| [p[0] + 3.0, p[1] + 1.0, p[2]]).collect();
+            vec![
+                place(&blade.pos, [far[0] - f as f32, far[1], far[2]], 1.57),
+                o,
+                o2,
+                place(&liver.pos, far, 0.0),
+            ]
+        })
+        .collect();
+    Case {
+        meshes: vec![blade, organ.clone(), organ, liver],
+        frames,
+        disabled: vec![3],
+        epsilon: 0.001,
+    }
+}
+
+/// Two organs deformed against each other (hundreds of contacts a frame).
+fn organ_case() -> Case {
+    let a = TestMesh::from_obj(&shared_mesh("colon"));
+    let b = TestMesh::from_obj(&shared_mesh("small_intestine"));
+    let (lo, hi) = common::bounds(&a.pos);
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
+    let frames = (0..2)
+        .map(|f| {
+            vec![
+                wave(&a.pos, 0.004 * extent, 8.0 / extent, f as f32 * 0.1),
+                wave(&b.pos, -0.004 * extent, 8.0 / extent, f as f32 * 0.1),
+            ]
+        })
+        .collect();
+    Case {
+        meshes: vec![a, b],
+        frames,
+        disabled: vec![],
+        epsilon: 0.001,
+    }
+}
+
+fn check(case: &Case, min_contacts: usize) {
+    let _ctx = Ctx::new(Profile::Core);
+    let cpu = run(case, &|c| Scene::new(c).unwrap());
+    let whole = run(case, &|c| gl_scene(c, Path::Whole));
+    let steps = run(case, &|c| gl_scene(c, Path::Steps));
+    let tiny = run(case, &|c| gl_scene(c, Path::WholeTiny));
+    let mut total = 0;
+    for f in 0..case.frames.len() {
+        total += cpu[f].0.len();
+        assert_eq!(whole[f].0, cpu[f].0, "frame {f}: whole query != CPU");
+        assert_eq!(steps[f].0, cpu[f].0, "frame {f}: step path != CPU");
+        assert_eq!(tiny[f].0, cpu[f].0, "frame {f}: grown buffers != CPU");
+        let (w, s) = (whole[f].1, steps[f].1);
+        assert_eq!(w.hits[..4], s.hits[..4], "frame {f}: steps 1-4 hits differ");
+        assert_eq!(
+            w.tests[1..4],
+            s.tests[1..4],
+            "frame {f}: steps 2-4 tests differ"
+        );
+        assert_eq!(
+            w.readbacks, 1,
+            "frame {f}: whole query read back {} times",
+            w.readbacks
+        );
+        assert!(
+            s.readbacks >= 6,
+            "frame {f}: the step path reads back each step ({})",
+            s.readbacks
+        );
+        if f > 0 {
+            assert_eq!(
+                tiny[f].1.readbacks, 1,
+                "frame {f}: buffers did not keep their room"
+            );
+        }
+    }
+    assert!(
+        tiny[0].1.readbacks > 1,
+        "room for one entry cannot hold the first frame"
+    );
+    assert!(total >= min_contacts, "scene too easy: {total} contacts");
+}
+
+#[test]
+fn instrument_in_two_organs() {
+    check(&instrument_case(), 10);
+}
+
+#[test]
+fn organ_against_organ() {
+    check(&organ_case(), 200);
+}
+
+/// A host buffer with a NaN: NON_FINITE, then the next good frame is answered in full.
+#[test]
+fn nan_in_a_host_buffer() {
+    use glow::HasContext;
+    let ctx = Ctx::new(Profile::Core);
+    let g = ctx.glow();
+    let case = instrument_case();
+    let mut s = gl_scene(
+        SceneConfig {
+            epsilon: 0.001,
+            max_polygons_per_box: 0,
+        },
+        Path::Whole,
+    );
+    let blade = add(&mut s, &case.meshes[0]);
+    let organ = add(&mut s, &case.meshes[1]);
+    let mut cpu = Scene::new(*s.config()).unwrap();
+    let cb = add(&mut cpu, &case.meshes[0]);
+    let co = add(&mut cpu, &case.meshes[1]);
+    let host = unsafe { g.create_buffer().unwrap() };
+    let fill = |p: &[[f32; 3]]| unsafe {
+        let flat: Vec<f32> = p.iter().flatten().copied().collect();
+        let bytes = std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4);
+        g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
+        g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STREAM_DRAW);
+        g.bind_buffer(glow::ARRAY_BUFFER, None);
+    };
+    let frame = &case.frames[1];
+    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
+        .unwrap();
+    cpu.update_positions(cb, 0, Positions::from_points(&frame[0]))
+        .unwrap();
+    cpu.update_positions(co, 0, Positions::from_points(&frame[1]))
+        .unwrap();
+    let want: Vec<(u32, u32)> = cpu
+        .query(cb)
+        .unwrap()
+        .iter()
+        .map(|c| (c.reference_polygon, c.other_polygon))
+        .collect();
+    assert!(!want.is_empty());
+    let mut bad = frame[1].clone();
+    bad[17][1] = f32::NAN;
+    fill(&bad);
+    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    let e = s.query(blade).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::NonFinite, "{}", e.message);
+    assert!(e.message.contains(&organ.to_string()), "{}", e.message);
+    fill(&frame[1]);
+    let got: Vec<(u32, u32)> = s
+        .query(blade)
+        .unwrap()
+        .iter()
+        .map(|c| (c.reference_polygon, c.other_polygon))
+        .collect();
+    // No CPU confirmation with a host buffer: every exact pair, extras within the band.
+    for p in &want {
+        assert!(got.binary_search(p).is_ok(), "missed {p:?}");
+    }
+    assert!(
+        got.len() <= want.len() * 2,
+        "{} vs {}",
+        got.len(),
+        want.len()
+    );
+    assert_eq!(s.stats().readbacks, 1);
+    s.release_gl();
+    unsafe { g.delete_buffer(host) };
+}
