@@ -2,7 +2,9 @@
 //! function; a long list of state is snapshotted before and after each call and must not
 //! change. A GL error the host left pending must not fail our call and must still be
 //! pending after it. Runs in a compatibility context (GL_SELECT and GL_COMPUTE) and in a
-//! core 4.5 context (GL_COMPUTE).
+//! core 4.5 context (GL_COMPUTE). The host also has a program pipeline, a transform feedback
+//! object with its own buffers, and indexed bindings up to 15; a host whose transform
+//! feedback is running is refused with a message, and answered once it pauses it.
 mod common;
 mod gl_support;
 
@@ -83,6 +85,13 @@ fn snapshot(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Snapshot {
             ("UNPACK_SKIP_ROWS", glow::UNPACK_SKIP_ROWS),
             ("UNPACK_IMAGE_HEIGHT", glow::UNPACK_IMAGE_HEIGHT),
             ("PATCH_VERTICES", glow::PATCH_VERTICES),
+            ("PROGRAM_PIPELINE_BINDING", glow::PROGRAM_PIPELINE_BINDING),
+            (
+                "TRANSFORM_FEEDBACK_BINDING",
+                glow::TRANSFORM_FEEDBACK_BINDING,
+            ),
+            ("TRANSFORM_FEEDBACK_ACTIVE", glow::TRANSFORM_FEEDBACK_ACTIVE),
+            ("TRANSFORM_FEEDBACK_PAUSED", glow::TRANSFORM_FEEDBACK_PAUSED),
         ] {
             ints(name, p, 1);
         }
@@ -150,8 +159,15 @@ fn snapshot(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Snapshot {
                 glow::ATOMIC_COUNTER_BUFFER_START,
                 glow::ATOMIC_COUNTER_BUFFER_SIZE,
             ),
+            (
+                "TFB",
+                glow::TRANSFORM_FEEDBACK_BUFFER_BINDING,
+                glow::TRANSFORM_FEEDBACK_BUFFER_START,
+                glow::TRANSFORM_FEEDBACK_BUFFER_SIZE,
+            ),
         ] {
-            for i in 0..INDEXED.min(8) {
+            let n = if target == "TFB" { 4 } else { INDEXED };
+            for i in 0..n {
                 s.push((
                     format!("{target}[{i}]"),
                     vec![
@@ -235,7 +251,17 @@ fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
         g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 5, Some(bufs[4]));
         g.bind_buffer_base(glow::UNIFORM_BUFFER, 2, Some(bufs[5]));
         g.bind_buffer_range(glow::ATOMIC_COUNTER_BUFFER, 1, Some(bufs[6]), 0, 64);
+        g.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, 11, Some(bufs[6]), 128, 256);
         g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(bufs[7]));
+        // A transform feedback object with its own buffers, and a program pipeline.
+        let tf = g.create_transform_feedback().unwrap();
+        g.bind_transform_feedback(glow::TRANSFORM_FEEDBACK, Some(tf));
+        g.bind_buffer_base(glow::TRANSFORM_FEEDBACK_BUFFER, 0, Some(bufs[3]));
+        g.bind_buffer_range(glow::TRANSFORM_FEEDBACK_BUFFER, 2, Some(bufs[4]), 64, 128);
+        let pipeline = Pipelines::load();
+        let mut name = 0;
+        (pipeline.gen)(1, &mut name);
+        (pipeline.bind)(name);
         g.bind_buffer(glow::COPY_READ_BUFFER, Some(bufs[2]));
         g.bind_buffer(glow::COPY_WRITE_BUFFER, Some(bufs[5]));
         let rb = g.create_renderbuffer().unwrap();
@@ -292,6 +318,28 @@ fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
         }
         assert_eq!(g.get_error(), glow::NO_ERROR);
         bufs.iter().map(|b| b.0.get()).collect()
+    }
+}
+
+/// glGenProgramPipelines / glBindProgramPipeline (not in glow), through the host's loader.
+struct Pipelines {
+    gen: unsafe extern "system" fn(i32, *mut u32),
+    bind: unsafe extern "system" fn(u32),
+}
+
+impl Pipelines {
+    fn load() -> Pipelines {
+        unsafe {
+            let gen = get_proc_address(std::ptr::null_mut(), c"glGenProgramPipelines".as_ptr());
+            let bind = get_proc_address(std::ptr::null_mut(), c"glBindProgramPipeline".as_ptr());
+            assert!(!gen.is_null() && !bind.is_null());
+            Pipelines {
+                gen: std::mem::transmute::<*mut c_void, unsafe extern "system" fn(i32, *mut u32)>(
+                    gen,
+                ),
+                bind: std::mem::transmute::<*mut c_void, unsafe extern "system" fn(u32)>(bind),
+            }
+        }
     }
 }
 
@@ -393,4 +441,84 @@ fn state_survives_gl_compute_compat() {
 #[test]
 fn state_survives_gl_compute_core() {
     run(Profile::Core, GlcolBackend::GlCompute);
+}
+
+/// A host in the middle of transform feedback: refused with GL_UNAVAILABLE and a message
+/// while it runs (changing nothing, leaving no error), answered once it is paused, and
+/// the paused transform feedback survives the call.
+fn transform_feedback_in_flight(profile: Profile, backend: GlcolBackend) {
+    let ctx = Ctx::new(profile);
+    let g = ctx.glow();
+    busy_host(&ctx, &g, profile);
+    let blade = TestMesh::from_obj(&shared_mesh("scissors_blade"));
+    let organ = TestMesh::from_obj(&shared_mesh("teapot"));
+    let (lo, hi) = common::bounds(&organ.pos);
+    let bp = place(
+        &blade.pos,
+        [hi[0], (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0],
+        1.0,
+    );
+    let s = scene(backend, 0.01, 0);
+    add_mesh(s, &organ.pos, &organ.idx, 3);
+    let b = add_mesh(s, &bp, &blade.idx, 3);
+    let n = query(s, b).len();
+    assert!(n > 0);
+    unsafe {
+        let vs = g.create_shader(glow::VERTEX_SHADER).unwrap();
+        g.shader_source(
+            vs,
+            "#version 330 core\nout float v; void main(){v=1.0; gl_Position=vec4(0.0);}",
+        );
+        g.compile_shader(vs);
+        let prog = g.create_program().unwrap();
+        g.attach_shader(prog, vs);
+        g.transform_feedback_varyings(prog, &["v"], glow::INTERLEAVED_ATTRIBS);
+        g.link_program(prog);
+        assert!(
+            g.get_program_link_status(prog),
+            "{}",
+            g.get_program_info_log(prog)
+        );
+        g.use_program(Some(prog));
+        g.begin_transform_feedback(glow::POINTS);
+        assert_eq!(g.get_error(), glow::NO_ERROR);
+        let before = snapshot(&ctx, &g, profile);
+        let (mut c, mut count) = (std::ptr::null(), 0);
+        let st = glcol_query(s, b, &mut c, &mut count);
+        assert_eq!(st, GlcolStatus::GlUnavailable);
+        assert!(
+            last_error().contains("transform feedback"),
+            "{}",
+            last_error()
+        );
+        compare(
+            "a refused glcol_query",
+            &before,
+            &snapshot(&ctx, &g, profile),
+        );
+        assert_eq!(g.get_error(), glow::NO_ERROR);
+        g.pause_transform_feedback();
+        let before = snapshot(&ctx, &g, profile);
+        assert_eq!(query(s, b).len(), n);
+        compare(
+            "glcol_query with transform feedback paused",
+            &before,
+            &snapshot(&ctx, &g, profile),
+        );
+        assert_eq!(g.get_error(), glow::NO_ERROR);
+        g.resume_transform_feedback();
+        g.end_transform_feedback();
+        assert_eq!(g.get_error(), glow::NO_ERROR);
+        glcol_scene_destroy(s);
+    }
+}
+
+#[test]
+fn transform_feedback_gl_compute_core() {
+    transform_feedback_in_flight(Profile::Core, GlcolBackend::GlCompute);
+}
+
+#[test]
+fn transform_feedback_gl_select_compat() {
+    transform_feedback_in_flight(Profile::Compat, GlcolBackend::GlSelect);
 }

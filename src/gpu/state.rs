@@ -18,6 +18,13 @@
 //!   depths are never changed), render mode, selection buffer pointer and size, the name
 //!   stack (restored by popping exactly what was pushed), clip-plane equations.
 //!
+//! - with fixed-function use (GL_SELECT draws with no program, so a host's program
+//!   pipeline would take over): the program pipeline binding;
+//! - never touched, so never saved: the transform feedback object and buffer bindings, textures, samplers and images
+//!   (tests/gl_state.rs checks they survive). A host in the middle of transform feedback
+//!   that is not paused is refused (no program could be changed without ending it): pause
+//!   it around the call.
+//!
 //! A host error pending on entry (say GL_INVALID_ENUM) does not fail our call; it is raised
 //! again on exit when it can be (GL_INVALID_ENUM, GL_INVALID_VALUE, GL_INVALID_OPERATION),
 //! so the host's next glGetError still sees it.
@@ -40,6 +47,8 @@ pub struct Uses {
 const MAX_CLIP: u32 = 8;
 
 struct FixedFunction {
+    /// Program pipeline binding (GL 4.1+ with the entry point loaded).
+    pipeline: Option<u32>,
     matrix_mode: i32,
     projection: [f64; 16],
     modelview: [f64; 16],
@@ -290,6 +299,16 @@ const PROJECTION_MATRIX: u32 = 0x0BA7;
 unsafe fn save(gl: &Gl, uses: Uses) -> Result<Saved> {
     let g = &gl.gl;
     let i = |p: u32| g.get_parameter_i32(p);
+    if at_least(gl, (4, 0))
+        && i(glow::TRANSFORM_FEEDBACK_ACTIVE) != 0
+        && i(glow::TRANSFORM_FEEDBACK_PAUSED) == 0
+    {
+        return Err(Error::new(
+            ErrorKind::GlUnavailable,
+            "transform feedback is active on this context; pause it (glPauseTransformFeedback) \
+             or end it before calling glcollide",
+        ));
+    }
     let ff = if uses.fixed_function {
         let f = gl.ff();
         let mut mode = 0;
@@ -313,7 +332,10 @@ unsafe fn save(gl: &Gl, uses: Uses) -> Result<Saved> {
                 eq
             })
             .collect();
+        let pipeline = (at_least(gl, (4, 1)) && f.BindProgramPipeline.is_loaded())
+            .then(|| i(glow::PROGRAM_PIPELINE_BINDING) as u32);
         Some(FixedFunction {
+            pipeline,
             matrix_mode: i(MATRIX_MODE),
             projection,
             modelview,
@@ -404,6 +426,9 @@ unsafe fn restore(gl: &Gl, s: &Saved) {
         f.MatrixMode(PROJECTION);
         f.LoadMatrixd(ff.projection.as_ptr());
         f.MatrixMode(ff.matrix_mode as u32);
+        if let Some(p) = ff.pipeline {
+            f.BindProgramPipeline(p);
+        }
     }
     for &(cap, on) in &s.enables {
         if on {
