@@ -4,13 +4,17 @@
 //! - Every mesh's positions live in one buffer object (an arena of xyz floats, all meshes),
 //!   uploaded when a mesh's positions change, or gathered on the GPU from the host's own
 //!   buffer object (`glcol_mesh_bind_gl_buffer`: no copy through the CPU).
-//! - The whole query runs on the GPU ([`Selector::run_query`], shaders/query.glsl): leaf
-//!   boxes refitted (one thread per leaf) and the reference root reduced, step 1 one thread
-//!   per other leaf, steps 2 to 5 one workgroup per step-1 hit or per leaf pair, sized on the
-//!   GPU (indirect dispatch). Each step appends through atomic counters into buffers the
-//!   next step reads; the CPU reads one buffer once, at the end (a header of counters, then
-//!   the step-5 hits). When an answer outgrows a buffer (the counters keep counting), the
-//!   buffers grow to fit and the query runs again: `QueryStats::readbacks` counts both.
+//! - The whole query runs on the GPU ([`Selector::run_query`], shaders/query.glsl), one
+//!   thread per test in every step: step 1 over the other meshes' leaves, step 2 over (step-1
+//!   hit, reference leaf), steps 3-4 and 5 over the tests of each leaf pair, counted by a scan
+//!   over the pairs on the GPU and dispatched indirectly. Each step appends through atomic
+//!   counters into buffers the next step reads; the CPU reads one buffer once, at the end (a
+//!   header of counters, then the step-5 hits). When an answer outgrows a buffer (the
+//!   counters keep counting), the buffers grow to fit and the query runs again:
+//!   `QueryStats::readbacks` counts both.
+//! - Leaf boxes: the CPU's refit is uploaded with the positions (24 bytes a leaf); when a
+//!   mesh reads a host buffer, every leaf is refitted on the GPU (one thread per leaf), the
+//!   reference root reduced with atomics, and a NaN or infinity flagged in the result.
 //! - The step-by-step path (one dispatch per [`Batch`] through [`Selector::select`], with
 //!   a read-back per step) is kept behind [`GlComputeSelector::set_whole_query`]: the tests
 //!   check both against each other.
@@ -116,6 +120,7 @@ pub struct GlComputeSelector {
     vols: Vec<u32>,
     cands: Vec<u32>,
     groups: Vec<u32>,
+    box_words: Vec<f32>,
     raw: Vec<u8>,
 }
 
@@ -192,6 +197,7 @@ impl GlComputeSelector {
             vols: Vec::new(),
             cands: Vec::new(),
             groups: Vec::new(),
+            box_words: Vec::new(),
             raw: Vec::new(),
         };
         let guard = StateGuard::enter(&s.gl, uses())?;
@@ -264,7 +270,7 @@ const LEAF_POLYS: usize = 9;
 const OTHERS: usize = 10;
 /// Whole query: step-1 hits (global leaf ids).
 const L1: usize = 11;
-/// Whole query: leaf pairs (6 words each).
+/// Whole query: leaf pairs (8 words each).
 const PAIRS: usize = 12;
 /// Whole query: each pair's step-3 and step-4 polygon lists.
 const LISTS: usize = 13;
@@ -385,16 +391,28 @@ impl GlComputeSelector {
             for b in 0..9 {
                 g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[b], Some(o.buffers[b]));
             }
-            // CPU-side positions that changed.
-            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[POS]));
+            // CPU-side positions that changed, and (whole query) their CPU-refitted boxes.
             for (id, m) in meshes.iter() {
                 let s = self.slots.get_mut(id).unwrap();
                 if !self.bound.contains_key(id) && s.uploaded != Some(m.generation) {
+                    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[POS]));
                     g.buffer_sub_data_u8_slice(
                         glow::SHADER_STORAGE_BUFFER,
                         s.vertex_base as i32 * 12,
                         bytes(m.slot_positions()),
                     );
+                    if self.whole_query {
+                        self.box_words.clear();
+                        for b in &m.leaves.boxes {
+                            self.box_words.extend(b.min.iter().chain(&b.max));
+                        }
+                        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
+                        g.buffer_sub_data_u8_slice(
+                            glow::SHADER_STORAGE_BUFFER,
+                            s.leaf_base as i32 * 24,
+                            bytes(&self.box_words),
+                        );
+                    }
                     s.uploaded = Some(m.generation);
                 }
             }
@@ -462,6 +480,9 @@ impl GlComputeSelector {
     /// Whole query (default) or one dispatch and read-back per step.
     pub fn set_whole_query(&mut self, on: bool) {
         self.whole_query = on;
+        for s in self.slots.values_mut() {
+            s.uploaded = None; // the whole query also needs the boxes uploaded
+        }
     }
 
     /// Room the whole query's buffers start from (leaf pairs, step-3/4 list words, step-5
@@ -490,7 +511,7 @@ impl GlComputeSelector {
         let l1 = l1.max(self.sized.map_or(0, |(_, l)| l));
         for (buf, words) in [
             (L1, l1 as usize),
-            (PAIRS, 6 * c.pairs as usize),
+            (PAIRS, 8 * c.pairs as usize),
             (LISTS, c.lists as usize),
             (RESULT, HEADER + 2 * c.hits as usize),
         ] {
@@ -534,8 +555,19 @@ impl GlComputeSelector {
         }
         bases.sort_unstable();
         let all_leaves: u32 = self.slots.values().map(|s| s.leaves).sum();
+        // The reference root: reduced on the GPU after refitting the leaves when any mesh
+        // reads a host buffer; otherwise every box is the CPU's (uploaded by prepare).
+        let gpu_refit = !self.bound.is_empty();
         let mut header = [0u32; HEADER];
-        header[12..15].fill(u32::MAX); // root minimum keys
+        if gpu_refit {
+            header[12..15].fill(u32::MAX); // minimum keys, grown down by the refit
+        } else {
+            let root = q.meshes[0].1.leaves.root;
+            for k in 0..3 {
+                header[12 + k] = order_key(root.min[k]);
+                header[15 + k] = order_key(root.max[k]);
+            }
+        }
         let mut raw: Vec<u32> = Vec::new();
         let mut runs = 0;
         loop {
@@ -571,29 +603,25 @@ impl GlComputeSelector {
                 let [refit, step1, sizes, step2, step34, step5] = o.query;
                 let storage = glow::SHADER_STORAGE_BARRIER_BIT;
                 let command = storage | glow::COMMAND_BARRIER_BIT;
-                uniforms(refit);
-                dispatch(g, refit, all_leaves);
-                g.memory_barrier(storage);
+                if gpu_refit {
+                    uniforms(refit);
+                    dispatch(g, refit, all_leaves);
+                    g.memory_barrier(storage);
+                }
                 uniforms(step1);
                 set_u32(g, step1, "u_others", q.meshes.len() as u32 - 1);
                 dispatch(g, step1, l1_cap);
                 g.memory_barrier(storage);
-                uniforms(sizes);
-                set_u32(g, sizes, "u_src", 0);
-                dispatch(g, sizes, 1);
-                g.memory_barrier(command);
-                uniforms(step2);
-                g.dispatch_compute_indirect(4 * 24);
-                g.memory_barrier(storage);
-                uniforms(sizes);
-                set_u32(g, sizes, "u_src", 1);
-                dispatch(g, sizes, 1);
-                g.memory_barrier(command);
-                uniforms(step34);
-                g.dispatch_compute_indirect(4 * 28);
-                g.memory_barrier(storage);
-                uniforms(step5);
-                g.dispatch_compute_indirect(4 * 28);
+                // Each step after step 1: one workgroup sizes it, then it runs.
+                for (src, step, args) in [(0, step2, 24), (1, step34, 28), (2, step5, 32)] {
+                    uniforms(sizes);
+                    set_u32(g, sizes, "u_src", src);
+                    dispatch(g, sizes, GROUP);
+                    g.memory_barrier(command);
+                    uniforms(step);
+                    g.dispatch_compute_indirect(4 * args);
+                    g.memory_barrier(storage);
+                }
                 g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
                 self.gl.check("the query dispatches")?;
                 // The one read-back: map the result, copy the header and the hits it counts.
@@ -616,6 +644,12 @@ impl GlComputeSelector {
                 g.unmap_buffer(glow::SHADER_STORAGE_BUFFER);
                 self.readbacks += 1;
                 self.gl.check("reading the query's result")?;
+            }
+            if raw[11] != 0 {
+                return Err(Error::new(
+                    ErrorKind::Unsupported,
+                    "a step of this query asks 2^32 tests or more, more than one dispatch can take",
+                ));
             }
             if raw[0] != 0 {
                 let ids: Vec<String> = self.bound.keys().map(u32::to_string).collect();
@@ -655,7 +689,7 @@ impl GlComputeSelector {
             r[1] as usize * ref_leaves as usize,
             r[5] as usize,
             r[6] as usize,
-            ((r[10] as u64) << 32 | r[9] as u64) as usize,
+            r[10] as usize,
         ];
         stats.hits = [r[1], r[2], r[7], r[8], r[4]].map(|x| x as usize);
         // Global polygon id -> (mesh position, leaf-ordered polygon).
@@ -800,6 +834,16 @@ impl GlComputeSelector {
             hits.truncate(w);
         }
         Ok(())
+    }
+}
+
+/// A float's key whose unsigned order is the float order (as `key` in query.glsl).
+fn order_key(f: f32) -> u32 {
+    let b = f.to_bits();
+    if b & 0x8000_0000 != 0 {
+        !b
+    } else {
+        b | 0x8000_0000
     }
 }
 

@@ -1,12 +1,13 @@
-// The whole query on the GPU (GL_COMPUTE): steps 1 to 5 as five dispatches that read each
-// other's output, sized on the GPU (indirect dispatch), so the CPU reads one buffer once,
-// at the end. Compiled once per kernel with KERNEL defined (1: refit + reference root,
-// 2: step 1, 3: dispatch sizes, 4: step 2, 5: steps 3 and 4, 6: step 5).
+// The whole query on the GPU (GL_COMPUTE): steps 1 to 5 as dispatches that read each
+// other's output, one thread per test, sized on the GPU (scans over the leaf pairs and
+// indirect dispatch), so the CPU reads one buffer once, at the end. Compiled once per
+// kernel with KERNEL defined (1: refit + reference root, 2: step 1, 3: sizes of the next
+// dispatch, 4: step 2, 5: steps 3 and 4, 6: step 5).
 //
 // Result buffer (binding 5): a 64-word header, then the step-5 hits as (reference polygon,
 // other polygon) global ids. Every counter keeps counting past its capacity (writes past it
 // are dropped), so the CPU sees how much room a complete answer needs.
-layout(std430, binding = 5) coherent buffer Result {
+layout(std430, binding = 5) buffer Result {
     uint h_nonfinite;   // 0: a leaf box of a buffer-bound mesh is not finite
     uint h_l1;          // 1: step-1 hits (other leaves in the reference root)
     uint h_pairs;       // 2: step-2 hits (leaf pairs)
@@ -16,13 +17,13 @@ layout(std430, binding = 5) coherent buffer Result {
     uint h_tests4;      // 6: step-4 tests
     uint h_hits3;       // 7: step-3 hits
     uint h_hits4;       // 8: step-4 hits
-    uint h_tests5_lo;   // 9, 10: step-5 tests (64 bits)
-    uint h_tests5_hi;
-    uint h_pad0;        // 11
+    uint h_total34;     // 9: step-3 and step-4 tests (threads of that dispatch)
+    uint h_total5;      // 10: step-5 tests (threads of that dispatch)
+    uint h_too_many;    // 11: a dispatch would need 2^32 threads or more
     uint h_root[6];     // 12..17: reference root, order-preserving keys (min xyz, max xyz)
     uint h_pad1[6];     // 18..23
-    uint h_args[8];     // 24..31: indirect dispatch sizes (x, y, z, -) for steps 2 and 3-5
-    uint h_pad2[32];    // 32..63
+    uint h_args[12];    // 24..35: indirect dispatch sizes (x, y, z, -): steps 2, 3-4, 5
+    uint h_pad2[28];    // 36..63
     uint out_hits[];
 };
 layout(std430, binding = 9) buffer Boxes { float boxes[]; };
@@ -115,117 +116,186 @@ void main() {
 }
 #endif
 
-#if KERNEL == 3
-// One thread: the workgroup grid for one workgroup per item (u_src: 0 the step-1 hits, 1
-// the leaf pairs), at most 65535 workgroups a side.
-uniform uint u_src;
-void main() {
-    if (thread_index() != 0u) return;
-    uint n = u_src == 0u ? min(h_l1, u_l1_cap) : min(h_pairs, u_pair_cap);
-    uint x = min(n, 65535u);
-    uint y = x == 0u ? 1u : (n + x - 1u) / x;
-    uint at = u_src == 0u ? 0u : 4u;
+#if KERNEL >= 3
+// A leaf pair: other leaf B, reference leaf R, list offset, step-3 and step-4 hit counts,
+// first step-3/4 test, first step-5 test, unused.
+layout(std430, binding = 3) buffer Pairs { uint pairs[]; };
+layout(std430, binding = 4) buffer Lists { uint lists[]; };
+const uint PAIR = 8u;
+
+uint leaf_size(uint l) { return leaf_polys[2u * l + 1u] - leaf_polys[2u * l]; }
+uint pair_count() { return min(h_pairs, u_pair_cap); }
+
+// A 2D grid of 64-thread workgroups for n threads (at most 65535 a side).
+void set_args(uint at, uint n) {
+    uint groups = (n + 63u) / 64u;
+    uint x = min(groups, 65535u);
     h_args[at] = x;
-    h_args[at + 1u] = y;
+    h_args[at + 1u] = x == 0u ? 1u : (groups + x - 1u) / x;
     h_args[at + 2u] = 1u;
+}
+
+// The pair holding flat test t: the last pair whose first test (word w) is <= t.
+uint pair_of(uint t, uint w) {
+    uint lo = 0u, hi = pair_count();
+    while (hi - lo > 1u) {
+        uint mid = (lo + hi) / 2u;
+        if (pairs[PAIR * mid + w] <= t) lo = mid; else hi = mid;
+    }
+    return lo;
 }
 #endif
 
-#if KERNEL >= 4
-// A leaf pair: other leaf, reference leaf, list offset, then the counts of steps 3 and 4.
-layout(std430, binding = 3) coherent buffer Pairs { uint pairs[]; };
-layout(std430, binding = 4) coherent buffer Lists { uint lists[]; };
+#if KERNEL == 3
+// One workgroup sizes the next step. u_src 0: step 2 (every step-1 hit against every
+// reference leaf). 1 and 2: an exclusive scan over the pairs of their step-3/4 test counts
+// (polygons of both leaves) or step-5 test counts (step-3 hits x step-4 hits), so the next
+// step runs one thread per test.
+uniform uint u_src;
+shared uint part[64];
+shared uint part_b[64];
+shared bool part_over[64];
+uint weight(uint k, out uint nr) {
+    if (u_src == 1u) {
+        nr = leaf_size(pairs[PAIR * k + 1u]);
+        return nr + leaf_size(pairs[PAIR * k]);
+    }
+    nr = 0u;
+    return pairs[PAIR * k + 3u] * pairs[PAIR * k + 4u];
+}
+void main() {
+    uint lane = gl_LocalInvocationID.x;
+    if (u_src == 0u) {
+        if (lane == 0u) {
+            uint n = min(h_l1, u_l1_cap);
+            // n * u_ref_leaves threads: refused (h_too_many) past 2^32.
+            if (u_ref_leaves != 0u && n > 0xffffffffu / u_ref_leaves) {
+                h_too_many = 1u;
+                n = 0u;
+            }
+            set_args(0u, n * u_ref_leaves);
+        }
+        return;
+    }
+    uint p = pair_count();
+    uint chunk = (p + 63u) / 64u;
+    uint a = min(lane * chunk, p), e = min(a + chunk, p);
+    uint sum = 0u, sum_r = 0u;
+    bool over = false;
+    for (uint k = a; k < e; k++) {
+        uint nr;
+        uint w = weight(k, nr);
+        over = over || sum + w < sum;
+        sum += w;
+        sum_r += nr;
+    }
+    part[lane] = sum;
+    part_b[lane] = sum_r;
+    part_over[lane] = over;
+    memoryBarrierShared();
+    barrier();
+    if (lane == 0u) {
+        uint run = 0u, run_r = 0u;
+        bool o = false;
+        for (uint i = 0u; i < 64u; i++) {
+            uint w = part[i];
+            o = o || part_over[i] || run + w < run;
+            part[i] = run;
+            run += w;
+            run_r += part_b[i];
+        }
+        if (o) h_too_many = 1u;
+        if (u_src == 1u) {
+            h_total34 = o ? 0u : run;
+            h_tests3 = run_r;
+            h_tests4 = run - run_r;
+            set_args(4u, h_total34);
+        } else {
+            h_total5 = o ? 0u : run;
+            set_args(8u, h_total5);
+        }
+    }
+    memoryBarrierShared();
+    barrier();
+    uint at = part[lane];
+    uint word = u_src == 1u ? 5u : 6u;
+    for (uint k = a; k < e; k++) {
+        uint nr;
+        uint w = weight(k, nr);
+        pairs[PAIR * k + word] = at;
+        at += w;
+    }
+}
 #endif
 
 #if KERNEL == 4
-// Step 2: one workgroup per step-1 hit B; its threads walk the reference's leaves R and
-// append every (B, R) whose boxes meet, with room for its step-3 and step-4 lists.
+// Step 2, one thread per (step-1 hit B, reference leaf R): every pair whose boxes meet is
+// appended, with room for its step-3 and step-4 lists.
 layout(std430, binding = 2) readonly buffer L1 { uint l1[]; };
 void main() {
-    uint item = item_index();
-    if (item >= min(h_l1, u_l1_cap)) return;
-    uint b = l1[item];
-    vec3 blo, bhi;
+    uint t = thread_index();
+    uint n = min(h_l1, u_l1_cap);
+    if (u_ref_leaves == 0u || t / u_ref_leaves >= n) return;
+    uint b = l1[t / u_ref_leaves];
+    uint r = u_ref_leaf_base + t % u_ref_leaves;
+    vec3 blo, bhi, rlo, rhi;
     leaf_box(b, blo, bhi);
-    uint nb = leaf_polys[2u * b + 1u] - leaf_polys[2u * b];
-    for (uint j = gl_LocalInvocationID.x; j < u_ref_leaves; j += gl_WorkGroupSize.x) {
-        uint r = u_ref_leaf_base + j;
-        vec3 rlo, rhi;
-        leaf_box(r, rlo, rhi);
-        if (!boxes_meet(blo, bhi, rlo, rhi)) continue;
-        uint k = atomicAdd(h_pairs, 1u);
-        uint nr = leaf_polys[2u * r + 1u] - leaf_polys[2u * r];
-        uint off = atomicAdd(h_list, nr + nb);
-        if (k < u_pair_cap) {
-            pairs[6u * k] = b;
-            pairs[6u * k + 1u] = r;
-            pairs[6u * k + 2u] = off;
-            pairs[6u * k + 3u] = 0u;
-            pairs[6u * k + 4u] = 0u;
-            pairs[6u * k + 5u] = 0u;
-        }
+    leaf_box(r, rlo, rhi);
+    if (!boxes_meet(blo, bhi, rlo, rhi)) return;
+    uint k = atomicAdd(h_pairs, 1u);
+    uint off = atomicAdd(h_list, leaf_size(r) + leaf_size(b));
+    if (k < u_pair_cap) {
+        pairs[PAIR * k] = b;
+        pairs[PAIR * k + 1u] = r;
+        pairs[PAIR * k + 2u] = off;
+        pairs[PAIR * k + 3u] = 0u;
+        pairs[PAIR * k + 4u] = 0u;
     }
 }
 #endif
 
 #if KERNEL == 5
-// Steps 3 and 4, one workgroup per leaf pair (B, R): R's polygons inside B's box go to the
-// pair's first list, B's polygons inside R's box to its second (which starts after room
-// for all of R's polygons).
+// Steps 3 and 4, one thread per (pair (B, R), polygon of R or B): R's polygons inside B's
+// box go to the pair's first list, B's polygons inside R's box to its second (which starts
+// after room for all of R's polygons).
 void main() {
-    uint k = item_index();
-    if (k >= min(h_pairs, u_pair_cap)) return;
-    uint b = pairs[6u * k], r = pairs[6u * k + 1u], off = pairs[6u * k + 2u];
-    uint r0 = leaf_polys[2u * r], nr = leaf_polys[2u * r + 1u] - r0;
-    uint b0 = leaf_polys[2u * b], nb = leaf_polys[2u * b + 1u] - b0;
-    bool room = off + nr + nb <= u_list_cap;
-    if (gl_LocalInvocationID.x == 0u) {
-        atomicAdd(h_tests3, nr);
-        atomicAdd(h_tests4, nb);
-    }
-    vec3 blo, bhi, rlo, rhi;
-    leaf_box(b, blo, bhi);
-    leaf_box(r, rlo, rhi);
-    for (uint i = gl_LocalInvocationID.x; i < nr + nb; i += gl_WorkGroupSize.x) {
-        bool step3 = i < nr;
-        uint p = step3 ? r0 + i : b0 + (i - nr);
-        vec3 plo, phi;
-        poly_box(p, plo, phi);
-        if (step3 ? boxes_meet(blo, bhi, plo, phi) : boxes_meet(rlo, rhi, plo, phi)) {
-            uint at = atomicAdd(pairs[6u * k + (step3 ? 3u : 4u)], 1u);
-            if (step3) atomicAdd(h_hits3, 1u); else atomicAdd(h_hits4, 1u);
-            if (room) lists[off + (step3 ? 0u : nr) + at] = p;
-        }
-    }
+    uint t = thread_index();
+    if (t >= h_total34) return;
+    uint k = pair_of(t, 5u);
+    uint i = t - pairs[PAIR * k + 5u];
+    uint b = pairs[PAIR * k], r = pairs[PAIR * k + 1u], off = pairs[PAIR * k + 2u];
+    uint nr = leaf_size(r);
+    bool step3 = i < nr;
+    uint p = step3 ? leaf_polys[2u * r] + i : leaf_polys[2u * b] + (i - nr);
+    vec3 vlo, vhi, plo, phi;
+    leaf_box(step3 ? b : r, vlo, vhi);
+    poly_box(p, plo, phi);
+    if (!boxes_meet(vlo, vhi, plo, phi)) return;
+    uint at = atomicAdd(pairs[PAIR * k + (step3 ? 3u : 4u)], 1u);
+    if (step3) atomicAdd(h_hits3, 1u); else atomicAdd(h_hits4, 1u);
+    if (off + nr + leaf_size(b) <= u_list_cap) lists[off + (step3 ? 0u : nr) + at] = p;
 }
 #endif
 
 #if KERNEL == 6
-// Step 5, one workgroup per leaf pair: each reference polygon of its first list is a
-// viewing volume (section 2.3), each polygon of its second list a candidate.
+// Step 5, one thread per (pair, step-3 hit, step-4 hit): the reference polygon is the
+// viewing volume (section 2.3), the other polygon the candidate.
 void main() {
-    uint k = item_index();
-    if (k >= min(h_pairs, u_pair_cap)) return;
-    uint r = pairs[6u * k + 1u], off = pairs[6u * k + 2u];
-    uint nr = leaf_polys[2u * r + 1u] - leaf_polys[2u * r];
-    uint n3 = pairs[6u * k + 3u], n4 = pairs[6u * k + 4u];
-    uint b = pairs[6u * k];
-    uint nb = leaf_polys[2u * b + 1u] - leaf_polys[2u * b];
-    if (off + nr + nb > u_list_cap) return;
-    uint n = n3 * n4;
-    if (gl_LocalInvocationID.x == 0u && n > 0u) {
-        uint old = atomicAdd(h_tests5_lo, n);
-        if (old + n < old) atomicAdd(h_tests5_hi, 1u);
-    }
-    for (uint t = gl_LocalInvocationID.x; t < n; t += gl_WorkGroupSize.x) {
-        uint rp = lists[off + t / n4];
-        uint cp = lists[off + nr + t % n4];
-        if (polygon_meets(rp, cp)) {
-            uint at = atomicAdd(h_hits, 1u);
-            if (at < u_hit_cap) {
-                out_hits[2u * at] = rp;
-                out_hits[2u * at + 1u] = cp;
-            }
+    uint t = thread_index();
+    if (t >= h_total5) return;
+    uint k = pair_of(t, 6u);
+    uint i = t - pairs[PAIR * k + 6u];
+    uint b = pairs[PAIR * k], r = pairs[PAIR * k + 1u], off = pairs[PAIR * k + 2u];
+    uint nr = leaf_size(r);
+    if (off + nr + leaf_size(b) > u_list_cap) return;
+    uint n4 = pairs[PAIR * k + 4u];
+    uint rp = lists[off + i / n4];
+    uint cp = lists[off + nr + i % n4];
+    if (polygon_meets(rp, cp)) {
+        uint at = atomicAdd(h_hits, 1u);
+        if (at < u_hit_cap) {
+            out_hits[2u * at] = rp;
+            out_hits[2u * at + 1u] = cp;
         }
     }
 }
