@@ -63,7 +63,8 @@ typedef enum GlcolBackend {
   // The paper as published: glRenderMode(GL_SELECT); needs a compatibility-profile (or
   // <= 3.0) context.
   GLCOL_BACKEND_GL_SELECT = 2,
-  // The same queries as batched compute dispatches; needs GL 4.3+ core or compatibility.
+  // The same queries as compute dispatches, the whole query on the GPU with one read-back
+  // of the answer; needs GL 4.3+ core or compatibility.
   GLCOL_BACKEND_GL_COMPUTE = 3,
 } GlcolBackend;
 
@@ -192,9 +193,13 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 //   software renderer (llvmpipe, softpipe, SwiftShader: the CPU is faster there), or when
 //   epsilon = 0 (exact answers). `glcol_scene_backend` tells which.
 // - GLCOL_BACKEND_GL_SELECT: needs a compatibility-profile context (or GL 3.0) and 3 clip
-//   planes; GLCOL_BACKEND_GL_COMPUTE needs GL 4.3+ (core or compatibility). Otherwise, or
-//   without a loader or a current context: GLCOL_STATUS_GL_UNAVAILABLE, the message says
-//   why.
+//   planes; GLCOL_BACKEND_GL_COMPUTE needs GL 4.3+ (core or compatibility) with 12 shader
+//   storage buffer bindings (GL's minimum is 8; desktop drivers have 16 or more).
+//   Otherwise, or without a loader or a current context: GLCOL_STATUS_GL_UNAVAILABLE, the
+//   message says why.
+// - A GL-backed call made while the host's transform feedback is running (not paused), or
+//   while a compatibility context is in GL_SELECT/GL_FEEDBACK render mode, answers
+//   GLCOL_STATUS_GL_UNAVAILABLE and changes nothing.
 // - GL backends: epsilon below 2^-20 times the largest extent of the meshes in a query (0
 //   included) is raised to that minimum for the query (float clip precision).
 enum GlcolStatus glcol_scene_create(const struct GlcolSceneDesc *desc,

@@ -7,7 +7,8 @@
 #      headless EGL context when there is one) against FCL, Bullet and Embree on the same
 #      scenes and frames, the epsilon sweep and the polygons-per-box sweep -> peers.csv;
 #   2. benches/parry.rs on the same frames (dumped by 1) -> parry.csv, memory_rust.csv;
-#   3. benches/refit.rs -> refit.md;
+#   3. benches/refit.rs -> refit.md, and benches/gl.rs -> gl.md (GL backends, no host draws,
+#      read-backs per query; skipped with --no-gl);
 #   4. bench/summarize.py -> SUMMARY.md, results.json and the SVG figures.
 # Output: $BENCH_OUT (default bench-results/). Meshes: $MESHES (default ../shared/meshes).
 set -euo pipefail
@@ -37,6 +38,15 @@ echo "== refit"
 frames=200
 for a in "$@"; do [ "$a" = --quick ] && frames=5; done
 cargo bench --locked -q --bench refit -- "$frames" >"$out/refit.md"
+gl_frames=40
+for a in "$@"; do
+  [ "$a" = --quick ] && gl_frames=3
+  [ "$a" = --no-gl ] && gl_frames=0
+done
+if [ "$gl_frames" -gt 0 ]; then
+  echo "== gl"
+  cargo bench --locked -q --bench gl -- "$gl_frames" >"$out/gl.md"
+fi
 echo "end: $(date -u +%FT%TZ) load: $(cut -d' ' -f1-3 /proc/loadavg)" >>"$out/machine.txt"
 python3 bench/summarize.py "$out"
 echo "wrote $out/SUMMARY.md"

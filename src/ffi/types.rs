@@ -43,7 +43,8 @@ pub enum GlcolBackend {
     /// The paper as published: glRenderMode(GL_SELECT); needs a compatibility-profile (or
     /// <= 3.0) context.
     GlSelect = 2,
-    /// The same queries as batched compute dispatches; needs GL 4.3+ core or compatibility.
+    /// The same queries as compute dispatches, the whole query on the GPU with one read-back
+    /// of the answer; needs GL 4.3+ core or compatibility.
     GlCompute = 3,
 }
 
