@@ -260,3 +260,125 @@ fn nan_in_a_host_buffer() {
     s.release_gl();
     unsafe { g.delete_buffer(host) };
 }
+
+fn gl_scene_with(config: SceneConfig, f: impl FnOnce(&mut GlComputeSelector)) -> Scene {
+    let gl = unsafe { Gl::load(get_proc_address, std::ptr::null_mut()) }.expect("GL loads");
+    let mut sel = GlComputeSelector::new(gl).expect("GL_COMPUTE on llvmpipe");
+    f(&mut sel);
+    Scene::with_selector(config, Box::new(sel)).unwrap()
+}
+
+/// A grid of nx x ny squares (two triangles each) over [0, 1]^2 at height z.
+fn sheet(nx: u32, ny: u32, z: f32) -> TestMesh {
+    let mut pos = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            pos.push([i as f32 / nx as f32, j as f32 / ny as f32, z]);
+        }
+    }
+    let v = |i: u32, j: u32| j * (nx + 1) + i;
+    let mut idx = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            idx.extend([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+            idx.extend([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+        }
+    }
+    TestMesh { pos, idx, k: 3 }
+}
+
+/// Meshes created with placeholder positions (a million times too large, or all zero) and
+/// then bound to host buffers: the minimum epsilon comes from the boxes refitted on the
+/// GPU, not from the placeholders (two sheets 0.05 apart at epsilon 0.001: no contact).
+#[test]
+fn bound_meshes_raise_epsilon_from_their_real_extent() {
+    use glow::HasContext;
+    let ctx = Ctx::new(Profile::Core);
+    let g = ctx.glow();
+    let (a, b) = (sheet(4, 4, 0.0), sheet(4, 4, 0.05));
+    let config = SceneConfig {
+        epsilon: 0.001,
+        max_polygons_per_box: 0,
+    };
+    for scale in [1e6f32, 0.0] {
+        for path in [Path::Whole, Path::Steps] {
+            let mut s = gl_scene(config, path);
+            let mut hosts = Vec::new();
+            let mut ids = Vec::new();
+            for m in [&a, &b] {
+                let fake: Vec<[f32; 3]> = m.pos.iter().map(|p| p.map(|x| x * scale)).collect();
+                let id = s
+                    .create_mesh(Positions::from_points(&fake), &m.idx, 3)
+                    .unwrap();
+                let flat: Vec<f32> = m.pos.iter().flatten().copied().collect();
+                let host = unsafe {
+                    let h = g.create_buffer().unwrap();
+                    let bytes =
+                        std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4);
+                    g.bind_buffer(glow::ARRAY_BUFFER, Some(h));
+                    g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+                    g.bind_buffer(glow::ARRAY_BUFFER, None);
+                    h
+                };
+                s.bind_gl_buffer(id, host.0.get(), 0, 0).unwrap();
+                hosts.push(host);
+                ids.push(id);
+            }
+            let n = s.query(ids[0]).unwrap().len();
+            assert_eq!(n, 0, "{path:?}, placeholders x{scale}: {n} contacts");
+            s.release_gl();
+            for h in hosts {
+                unsafe { g.delete_buffer(h) };
+            }
+        }
+    }
+}
+
+/// One leaf pair asking 65536 x 65536 = 2^32 step-5 tests: refused with UNSUPPORTED by
+/// both paths (a 32-bit product would wrap to 0 and answer "no contact").
+#[test]
+fn a_step_past_two_to_the_31_tests_is_refused() {
+    let _ctx = Ctx::new(Profile::Core);
+    let (a, b) = (sheet(128, 256, 0.0), sheet(128, 256, 0.0002));
+    assert_eq!(a.polygons(), 65536);
+    let config = SceneConfig {
+        epsilon: 0.001,
+        max_polygons_per_box: 65536,
+    };
+    for path in [Path::Whole, Path::Steps] {
+        let mut s = gl_scene(config, path);
+        let ra = add(&mut s, &a);
+        add(&mut s, &b);
+        assert_eq!(s.mesh(ra).unwrap().leaf_count(), 1);
+        let e = s.query(ra).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Unsupported, "{path:?}: {}", e.message);
+        s.release_gl();
+    }
+}
+
+/// Room the GL cannot give (a 2 GiB pair buffer) is refused with OUT_OF_MEMORY before any
+/// allocation, and the next query starts from the usual room and answers in full.
+#[test]
+fn room_past_the_gl_limit_is_refused_then_recovered() {
+    let _ctx = Ctx::new(Profile::Core);
+    let (a, b) = (sheet(20, 20, 0.0), sheet(20, 20, 0.0002));
+    let config = SceneConfig {
+        epsilon: 0.001,
+        max_polygons_per_box: 0,
+    };
+    let mut cpu = Scene::new(config).unwrap();
+    let ca = add(&mut cpu, &a);
+    add(&mut cpu, &b);
+    let want = cpu.query(ca).unwrap().len();
+    assert!(want > 100);
+    let mut s = gl_scene_with(config, |sel| sel.set_room(1 << 26, 1 << 20, 1 << 16));
+    let ra = add(&mut s, &a);
+    add(&mut s, &b);
+    let e = s.query(ra).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::OutOfMemory, "{}", e.message);
+    for _ in 0..2 {
+        assert_eq!(s.query(ra).unwrap().len(), want);
+        assert_eq!(s.stats().readbacks, 1);
+    }
+    s.release_gl();
+}

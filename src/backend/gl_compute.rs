@@ -56,6 +56,8 @@ const GROUP: u32 = 64;
 /// Where a mesh lives in the arenas.
 #[derive(Clone, Debug, PartialEq)]
 struct Slot {
+    /// Position in the arenas' mesh order.
+    index: u32,
     vertex_base: u32,
     poly_base: u32,
     leaf_base: u32,
@@ -112,6 +114,8 @@ pub struct GlComputeSelector {
     /// Run the whole query on the GPU (default) rather than step by step.
     whole_query: bool,
     caps: Caps,
+    /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes.
+    max_block: u64,
     /// Read-backs since `take_readbacks`.
     readbacks: u32,
     /// Capacities the GPU buffers were last sized for (None: never).
@@ -133,9 +137,17 @@ fn gl_err(e: String) -> Error {
     Error::new(ErrorKind::GlError, e)
 }
 
-unsafe fn compile(g: &glow::Context, name: &str, body: &str) -> Result<glow::NativeProgram> {
+/// Compiles common.glsl, meets.glsl when the kernel tests primitives, and `body` (source
+/// string numbers in the GL's log: 0 common, 1 meets, 2 body).
+unsafe fn compile(
+    g: &glow::Context,
+    name: &str,
+    body: &str,
+    meets: bool,
+) -> Result<glow::NativeProgram> {
     let sh = g.create_shader(glow::COMPUTE_SHADER).map_err(gl_err)?;
-    let src = format!("{COMMON}\n#line 1 1\n{MEETS}\n#line 1 2\n{body}");
+    let meets = if meets { MEETS } else { "" };
+    let src = format!("{COMMON}\n#line 1 1\n{meets}\n#line 1 2\n{body}");
     g.shader_source(sh, &src);
     g.compile_shader(sh);
     if !g.get_shader_compile_status(sh) {
@@ -185,6 +197,8 @@ impl GlComputeSelector {
                  {BLOCKS} storage blocks per compute shader; this GL has {bindings} and {blocks}"
             )));
         }
+        let max_block =
+            unsafe { gl.gl.get_parameter_i64(glow::MAX_SHADER_STORAGE_BLOCK_SIZE) } as u64;
         let mut s = GlComputeSelector {
             gl,
             obj: None,
@@ -192,6 +206,7 @@ impl GlComputeSelector {
             bound: BTreeMap::new(),
             whole_query: true,
             caps: Caps::default(),
+            max_block,
             readbacks: 0,
             sized: None,
             vols: Vec::new(),
@@ -204,20 +219,21 @@ impl GlComputeSelector {
         let g = &s.gl.gl;
         let made = unsafe {
             (|| -> Result<Objects> {
-                let gather = compile(g, "gather", GATHER)?;
-                let refit = compile(g, "refit", REFIT).inspect_err(|_| g.delete_program(gather))?;
+                let gather = compile(g, "gather", GATHER, false)?;
+                let refit =
+                    compile(g, "refit", REFIT, false).inspect_err(|_| g.delete_program(gather))?;
                 let mut programs = vec![gather, refit];
                 let fail = |programs: &[glow::NativeProgram]| {
                     for &p in programs {
                         g.delete_program(p);
                     }
                 };
-                let select = compile(g, "select", SELECT).inspect_err(|_| fail(&programs))?;
+                let select = compile(g, "select", SELECT, true).inspect_err(|_| fail(&programs))?;
                 programs.push(select);
                 let mut query = Vec::new();
                 for k in 1..=6 {
-                    let body = format!("#define KERNEL {k}\n#line 1 3\n{QUERY}");
-                    let p = compile(g, "query", &body).inspect_err(|_| fail(&programs))?;
+                    let body = format!("#define KERNEL {k}\n#line 1 2\n{QUERY}");
+                    let p = compile(g, "query", &body, true).inspect_err(|_| fail(&programs))?;
                     programs.push(p);
                     query.push(p);
                 }
@@ -276,10 +292,12 @@ const PAIRS: usize = 12;
 const LISTS: usize = 13;
 /// Whole query: a 64-word header of counters, then the step-5 hits.
 const RESULT: usize = 14;
-const NBUF: usize = 15;
+/// Whole query: root box keys per mesh of the arena.
+const ROOTS: usize = 15;
+const NBUF: usize = 16;
 /// Shader binding of each buffer (the host source buffer is binding 6; the whole query's
-/// buffers reuse the step path's binding points 2 to 5).
-const BINDING: [u32; NBUF] = [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 2, 3, 4, 5];
+/// buffers reuse the step path's binding points 2 to 5 and gather's 8).
+const BINDING: [u32; NBUF] = [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 2, 3, 4, 5, 8];
 /// Words of the whole query's result header.
 const HEADER: usize = 64;
 
@@ -321,7 +339,7 @@ impl GlComputeSelector {
         let mut range: Vec<u32> = Vec::new();
         let mut verts: Vec<u32> = Vec::new();
         let mut leaf_polys: Vec<u32> = Vec::new();
-        for (&id, m) in meshes {
+        for (index, (&id, m)) in meshes.iter().enumerate() {
             let k = m.k;
             let nslots = m.slot_positions().len() as u32;
             for p in 0..m.polygon_count() {
@@ -333,13 +351,18 @@ impl GlComputeSelector {
             }
             let lv = &m.leaves;
             for l in 0..lv.len() {
-                range.extend([lv.leaf_slots[l] + vb, lv.leaf_slots[l + 1] + vb]);
+                range.extend([
+                    lv.leaf_slots[l] + vb,
+                    lv.leaf_slots[l + 1] + vb,
+                    index as u32,
+                ]);
                 leaf_polys.extend([lv.leaf_polys[l] + pb, lv.leaf_polys[l + 1] + pb]);
             }
             verts.extend_from_slice(m.slot_vertices());
             self.slots.insert(
                 id,
                 Slot {
+                    index: index as u32,
                     vertex_base: vb,
                     poly_base: pb,
                     leaf_base: lb,
@@ -368,6 +391,12 @@ impl GlComputeSelector {
         g.buffer_data_size(
             glow::SHADER_STORAGE_BUFFER,
             (lb as i32 * 24).max(16),
+            glow::DYNAMIC_DRAW,
+        );
+        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[ROOTS]));
+        g.buffer_data_size(
+            glow::SHADER_STORAGE_BUFFER,
+            (meshes.len() as i32 * 24).max(16),
             glow::DYNAMIC_DRAW,
         );
     }
@@ -419,9 +448,15 @@ impl GlComputeSelector {
             if self.bound.is_empty() {
                 return self.gl.check("uploading positions");
             }
-            // Host buffers: gather into the arena on the GPU, refit, read the boxes back.
+            // Host buffers: gather into the arena on the GPU (after the host's own shader
+            // writes to them), refit, read the boxes back (the whole query refits on the GPU
+            // and reads nothing back; disabled meshes are not in it).
+            g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             g.use_program(Some(o.gather));
             for (id, b) in &self.bound {
+                if self.whole_query && !meshes[id].enabled {
+                    continue;
+                }
                 let s = &self.slots[id];
                 g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 6, buffer(b.buffer));
                 set_u32(g, o.gather, "u_src_offset", (b.offset / 4) as u32);
@@ -431,7 +466,6 @@ impl GlComputeSelector {
             }
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             if self.whole_query {
-                // run_query refits every leaf and checks the boxes on the GPU.
                 return self.gl.check("gathering positions from host buffers");
             }
             g.use_program(Some(o.refit));
@@ -495,26 +529,43 @@ impl GlComputeSelector {
         };
     }
 
-    /// Sizes the whole query's buffers for `caps` and `l1` step-1 hits.
-    unsafe fn size_query_buffers(&mut self, l1: u32) {
+    /// Sizes the whole query's buffers for `caps` and `l1` step-1 hits. A size the GL
+    /// cannot take (past `i32::MAX` bytes or the largest storage block) is refused before
+    /// any allocation; an allocation the GL reports failing forgets the sizes and the room.
+    unsafe fn size_query_buffers(&mut self, l1: u32) -> Result<()> {
         if self.sized.is_some_and(|(c, l)| {
             c.pairs == self.caps.pairs
                 && c.lists == self.caps.lists
                 && c.hits == self.caps.hits
                 && l >= l1
         }) {
-            return;
+            return Ok(());
+        }
+        let c = self.caps;
+        let l1 = l1.max(self.sized.map_or(0, |(_, l)| l));
+        let sizes = [
+            (L1, "step-1 hits", l1 as u64),
+            (PAIRS, "leaf pairs", 8 * c.pairs as u64),
+            (LISTS, "step-3/4 lists", c.lists as u64),
+            (RESULT, "contacts", HEADER as u64 + 2 * c.hits as u64),
+        ];
+        let limit = self.max_block.min(i32::MAX as u64);
+        if let Some((_, what, words)) = sizes.iter().find(|(_, _, w)| 4 * w > limit) {
+            self.caps = Caps::default(); // the next query starts from the usual room
+            return Err(Error::new(
+                ErrorKind::OutOfMemory,
+                format!(
+                    "the query needs a {} MiB buffer for its {what}; this GL's storage blocks \
+                     take at most {} MiB",
+                    (4 * words) >> 20,
+                    limit >> 20
+                ),
+            ));
         }
         let g = &self.gl.gl;
         let b = &self.obj.as_ref().unwrap().buffers;
-        let c = self.caps;
-        let l1 = l1.max(self.sized.map_or(0, |(_, l)| l));
-        for (buf, words) in [
-            (L1, l1 as usize),
-            (PAIRS, 8 * c.pairs as usize),
-            (LISTS, c.lists as usize),
-            (RESULT, HEADER + 2 * c.hits as usize),
-        ] {
+        self.sized = None;
+        for (buf, _, words) in sizes {
             g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[buf]));
             g.buffer_data_size(
                 glow::SHADER_STORAGE_BUFFER,
@@ -526,7 +577,17 @@ impl GlComputeSelector {
                 },
             );
         }
+        if let Err(e) = self.gl.check("allocating the query's buffers") {
+            self.caps = Caps::default();
+            let kind = if e.message.contains("OUT_OF_MEMORY") {
+                ErrorKind::OutOfMemory
+            } else {
+                e.kind
+            };
+            return Err(Error::new(kind, e.message));
+        }
         self.sized = Some((c, l1));
+        Ok(())
     }
 
     /// Steps 1 to 5 on the GPU, one read-back (see the module's documentation).
@@ -536,80 +597,109 @@ impl GlComputeSelector {
         out: &mut Vec<Contact>,
         stats: &mut QueryStats,
     ) -> Result<()> {
-        let h = effective_half_depth(q);
         let t0 = std::time::Instant::now();
         let reference = &self.slots[&q.meshes[0].0];
-        let (ref_base, ref_leaves) = (reference.leaf_base, reference.leaves);
-        // Other meshes: (first global leaf, leaves, first thread); polygon bases for mapping
-        // hits back, sorted.
-        let mut others: Vec<u32> = Vec::with_capacity(3 * q.meshes.len());
+        let (ref_mesh, ref_base, ref_leaves) =
+            (reference.index, reference.leaf_base, reference.leaves);
+        // Other meshes: (first global leaf, leaves, first thread, arena index); polygon
+        // bases for mapping hits back, sorted.
+        let mut others: Vec<u32> = Vec::with_capacity(4 * q.meshes.len());
         let mut l1_cap = 0u32;
         let mut bases: Vec<(u32, u32)> = Vec::with_capacity(q.meshes.len());
         for (mi, (id, _)) in q.meshes.iter().enumerate() {
             let s = &self.slots[id];
             bases.push((s.poly_base, mi as u32));
             if mi > 0 {
-                others.extend([s.leaf_base, s.leaves, l1_cap]);
-                l1_cap = l1_cap.checked_add(s.leaves).ok_or_else(too_big)?;
+                others.extend([s.leaf_base, s.leaves, l1_cap, s.index]);
+                l1_cap = l1_cap
+                    .checked_add(s.leaves)
+                    .filter(|&n| n < 1 << 31)
+                    .ok_or_else(too_big)?;
             }
         }
         bases.sort_unstable();
-        let all_leaves: u32 = self.slots.values().map(|s| s.leaves).sum();
-        // The reference root: reduced on the GPU after refitting the leaves when any mesh
-        // reads a host buffer; otherwise every box is the CPU's (uploaded by prepare).
-        let gpu_refit = !self.bound.is_empty();
-        let mut header = [0u32; HEADER];
-        if gpu_refit {
-            header[12..15].fill(u32::MAX); // minimum keys, grown down by the refit
-        } else {
-            let root = q.meshes[0].1.leaves.root;
-            for k in 0..3 {
-                header[12 + k] = order_key(root.min[k]);
-                header[15 + k] = order_key(root.max[k]);
+        // Meshes reading a host buffer are refitted on the GPU, their roots reduced there,
+        // and the half depth raised there from the roots; the others' boxes and roots are
+        // the CPU's, and so is the half depth when every mesh is on the CPU.
+        let refit: Vec<(u32, u32)> = q
+            .meshes
+            .iter()
+            .filter(|(id, _)| self.bound.contains_key(id))
+            .map(|(id, _)| (self.slots[id].leaf_base, self.slots[id].leaves))
+            .collect();
+        let mut roots = vec![0u32; 6 * self.slots.len()];
+        for (id, s) in &self.slots {
+            let r = &mut roots[6 * s.index as usize..][..6];
+            match q.meshes.iter().find(|(i, _)| i == id) {
+                Some((_, m)) if !self.bound.contains_key(id) => {
+                    let b = m.leaves.root;
+                    for k in 0..3 {
+                        r[k] = order_key(b.min[k]);
+                        r[3 + k] = order_key(b.max[k]);
+                    }
+                }
+                _ => r[..3].fill(u32::MAX), // grown down by the refit
             }
         }
+        let h_base = (q.half_depth as f32).max(0.0);
+        let mut header = [0u32; HEADER];
+        header[12] = if refit.is_empty() {
+            ((effective_half_depth(q) * (1.0 + 1e-6)) as f32).to_bits()
+        } else {
+            h_base.to_bits()
+        };
         let mut raw: Vec<u32> = Vec::new();
         let mut runs = 0;
         loop {
             runs += 1;
             let caps = self.caps;
-            unsafe { self.size_query_buffers(l1_cap) };
+            unsafe { self.size_query_buffers(l1_cap)? };
             let g = &self.gl.gl;
             unsafe {
                 let o = self.obj.as_ref().unwrap();
                 let b = &o.buffers;
                 upload(g, b[OTHERS], bytes(&others));
+                upload(g, b[ROOTS], bytes(&roots));
                 g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[RESULT]));
                 g.buffer_sub_data_u8_slice(glow::SHADER_STORAGE_BUFFER, 0, bytes(&header));
                 for k in [
                     POS, POLYS, BOXES, LEAF_RANGE, LEAF_POLYS, OTHERS, L1, PAIRS, LISTS, RESULT,
+                    ROOTS,
                 ] {
                     g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(b[k]));
                 }
                 g.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, Some(b[RESULT]));
                 let uniforms = |p: glow::NativeProgram| {
                     g.use_program(Some(p));
+                    set_u32(g, p, "u_ref_mesh", ref_mesh);
                     set_u32(g, p, "u_ref_leaf_base", ref_base);
                     set_u32(g, p, "u_ref_leaves", ref_leaves);
+                    set_u32(g, p, "u_others", q.meshes.len() as u32 - 1);
                     set_u32(g, p, "u_l1_cap", l1_cap);
                     set_u32(g, p, "u_pair_cap", caps.pairs);
                     set_u32(g, p, "u_list_cap", caps.lists);
                     set_u32(g, p, "u_hit_cap", caps.hits);
-                    let l = g.get_uniform_location(p, "u_h");
-                    g.uniform_1_f32(l.as_ref(), (h * (1.0 + 1e-6)) as f32);
                     let l = g.get_uniform_location(p, "u_pad_rel");
                     g.uniform_1_f32(l.as_ref(), 1.0 / (1u64 << 40) as f32);
+                    let l = g.get_uniform_location(p, "u_h_base");
+                    g.uniform_1_f32(l.as_ref(), h_base);
                 };
-                let [refit, step1, sizes, step2, step34, step5] = o.query;
+                let [k_refit, step1, sizes, step2, step34, step5] = o.query;
                 let storage = glow::SHADER_STORAGE_BARRIER_BIT;
                 let command = storage | glow::COMMAND_BARRIER_BIT;
-                if gpu_refit {
-                    uniforms(refit);
-                    dispatch(g, refit, all_leaves);
+                if !refit.is_empty() {
+                    uniforms(k_refit);
+                    for &(first, leaves) in &refit {
+                        set_u32(g, k_refit, "u_first_leaf", first);
+                        dispatch(g, k_refit, leaves);
+                    }
+                    g.memory_barrier(storage);
+                    uniforms(sizes);
+                    set_u32(g, sizes, "u_src", 3);
+                    dispatch(g, sizes, GROUP);
                     g.memory_barrier(storage);
                 }
                 uniforms(step1);
-                set_u32(g, step1, "u_others", q.meshes.len() as u32 - 1);
                 dispatch(g, step1, l1_cap);
                 g.memory_barrier(storage);
                 // Each step after step 1: one workgroup sizes it, then it runs.
@@ -645,24 +735,25 @@ impl GlComputeSelector {
                 self.readbacks += 1;
                 self.gl.check("reading the query's result")?;
             }
+            if raw[0] != 0 {
+                let id = self
+                    .slots
+                    .iter()
+                    .find(|(_, s)| s.index == raw[0] - 1)
+                    .map_or(0, |(id, _)| *id);
+                return Err(Error::new(
+                    ErrorKind::NonFinite,
+                    format!("mesh {id}: its bound GL buffer holds a NaN or infinite coordinate"),
+                ));
+            }
             if raw[11] != 0 {
                 return Err(Error::new(
                     ErrorKind::Unsupported,
-                    "a step of this query asks 2^32 tests or more, more than one dispatch can take",
-                ));
-            }
-            if raw[0] != 0 {
-                let ids: Vec<String> = self.bound.keys().map(u32::to_string).collect();
-                return Err(Error::new(
-                    ErrorKind::NonFinite,
-                    format!(
-                        "a GL buffer bound to mesh {} holds a NaN or infinite coordinate",
-                        ids.join(" or ")
-                    ),
+                    "a step of this query asks 2^31 tests or more, more than one dispatch takes",
                 ));
             }
             // Grow what overflowed; the counters after an overflowed one may be short, so
-            // loop until nothing overflows.
+            // loop until nothing overflows (each run completes one more step: at most 4).
             let grow = |need: u32, cap: u32| {
                 if need > cap {
                     need.saturating_add(need / 2).max(cap.saturating_mul(2))
@@ -678,8 +769,11 @@ impl GlComputeSelector {
             if next.pairs == caps.pairs && next.lists == caps.lists && next.hits == caps.hits {
                 break;
             }
-            if runs >= 8 || [next.pairs, next.lists, next.hits].contains(&u32::MAX) {
-                return Err(too_big());
+            if runs >= 8 {
+                return Err(Error::new(
+                    ErrorKind::Internal,
+                    "the query's buffers still overflow after 8 runs (a bug)",
+                ));
             }
             self.caps = next;
         }
@@ -698,15 +792,18 @@ impl GlComputeSelector {
             let (base, mi) = bases[i];
             (mi, gp - base)
         };
-        let confirm = q.meshes.iter().all(|(id, _)| !self.bound.contains_key(id));
+        // Every position on the CPU: each hit is confirmed with the CPU backend's test.
+        let confirm = refit.is_empty().then(|| effective_half_depth(q));
         let ref_mesh = q.meshes[0].1;
         for hit in raw[HEADER..].chunks_exact(2) {
             let (rm, rp) = locate(hit[0]);
             let (cm, cp) = locate(hit[1]);
             debug_assert_eq!(rm, 0);
             let (other_id, other) = q.meshes[cm as usize];
-            if confirm && !confirmed(ref_mesh, rp as usize, other, cp as usize, h) {
-                continue;
+            if let Some(h) = confirm {
+                if !confirmed(ref_mesh, rp as usize, other, cp as usize, h) {
+                    continue;
+                }
             }
             out.push(Contact {
                 other_mesh: other_id,
@@ -969,19 +1066,23 @@ impl Selector for GlComputeSelector {
 
     fn release(&mut self) {
         if let Some(o) = self.obj.take() {
-            if let Ok(guard) = StateGuard::enter(&self.gl, uses()) {
-                unsafe {
-                    let g = &self.gl.gl;
-                    g.delete_program(o.gather);
-                    g.delete_program(o.refit);
-                    g.delete_program(o.select);
-                    for p in o.query {
-                        g.delete_program(p);
-                    }
-                    for b in o.buffers {
-                        g.delete_buffer(b);
-                    }
+            // Our objects are bound nowhere between calls (the guard gave every binding
+            // back), so deleting them changes no host state: done even when the guard
+            // refuses (say, the host's transform feedback is running), rather than leaked.
+            let guard = StateGuard::enter(&self.gl, uses()).ok();
+            unsafe {
+                let g = &self.gl.gl;
+                g.delete_program(o.gather);
+                g.delete_program(o.refit);
+                g.delete_program(o.select);
+                for p in o.query {
+                    g.delete_program(p);
                 }
+                for b in o.buffers {
+                    g.delete_buffer(b);
+                }
+            }
+            if let Some(guard) = guard {
                 let _ = guard.finish();
             }
         }

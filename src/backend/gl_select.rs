@@ -333,7 +333,7 @@ impl Selector for GlSelectSelector {
                 }
                 g.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
                 g.use_program(None);
-                if gl.info.version >= (4, 1) && f.BindProgramPipeline.is_loaded() {
+                if gl.info.program_pipelines {
                     f.BindProgramPipeline(0); // the guard gives the host's back
                 }
                 g.bind_vertex_array(None);

@@ -49,6 +49,9 @@ pub struct GlInfo {
     pub fixed_function: bool,
     /// Compute shaders with SSBOs (GL 4.3+).
     pub compute: bool,
+    /// Program pipeline objects (GL 4.1 or ARB_separate_shader_objects) with
+    /// glBindProgramPipeline loaded among the fixed-function entry points.
+    pub program_pipelines: bool,
     pub renderer: String,
     pub vendor: String,
     pub version_string: String,
@@ -154,11 +157,16 @@ impl Gl {
             None
         };
         let compute = at_least(4, 3) || exts.contains("GL_ARB_compute_shader");
+        let program_pipelines = ff
+            .as_ref()
+            .is_some_and(|f| f.BindProgramPipeline.is_loaded())
+            && (at_least(4, 1) || exts.contains("GL_ARB_separate_shader_objects"));
         let info = GlInfo {
             version,
             core_profile,
             fixed_function: ff.is_some(),
             compute: compute && at_least(4, 3),
+            program_pipelines,
             renderer: gl.get_parameter_string(glow::RENDERER),
             vendor: gl.get_parameter_string(glow::VENDOR),
             version_string,

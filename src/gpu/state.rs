@@ -210,8 +210,11 @@ fn generic_targets(gl: &Gl) -> Vec<(u32, u32)> {
     t
 }
 
-/// Indexed targets: (target, binding query, start query, size query).
-fn indexed_targets(gl: &Gl) -> Vec<(u32, u32, u32, u32)> {
+/// Indexed targets: (target, binding query, start query, size query, how many binding
+/// points the GL has).
+fn indexed_targets(gl: &Gl) -> Vec<(u32, u32, u32, u32, u32)> {
+    let g = &gl.gl;
+    let max = |p: u32| unsafe { g.get_parameter_i32(p) }.max(0) as u32;
     let mut t = Vec::new();
     if at_least(gl, (3, 1)) {
         t.push((
@@ -219,6 +222,7 @@ fn indexed_targets(gl: &Gl) -> Vec<(u32, u32, u32, u32)> {
             glow::UNIFORM_BUFFER_BINDING,
             glow::UNIFORM_BUFFER_START,
             glow::UNIFORM_BUFFER_SIZE,
+            max(glow::MAX_UNIFORM_BUFFER_BINDINGS),
         ));
     }
     if at_least(gl, (4, 2)) {
@@ -227,6 +231,7 @@ fn indexed_targets(gl: &Gl) -> Vec<(u32, u32, u32, u32)> {
             glow::ATOMIC_COUNTER_BUFFER_BINDING,
             glow::ATOMIC_COUNTER_BUFFER_START,
             glow::ATOMIC_COUNTER_BUFFER_SIZE,
+            max(glow::MAX_ATOMIC_COUNTER_BUFFER_BINDINGS),
         ));
     }
     if at_least(gl, (4, 3)) {
@@ -235,6 +240,7 @@ fn indexed_targets(gl: &Gl) -> Vec<(u32, u32, u32, u32)> {
             glow::SHADER_STORAGE_BUFFER_BINDING,
             glow::SHADER_STORAGE_BUFFER_START,
             glow::SHADER_STORAGE_BUFFER_SIZE,
+            max(glow::MAX_SHADER_STORAGE_BUFFER_BINDINGS),
         ));
     }
     t
@@ -332,7 +338,9 @@ unsafe fn save(gl: &Gl, uses: Uses) -> Result<Saved> {
                 eq
             })
             .collect();
-        let pipeline = (at_least(gl, (4, 1)) && f.BindProgramPipeline.is_loaded())
+        let pipeline = gl
+            .info
+            .program_pipelines
             .then(|| i(glow::PROGRAM_PIPELINE_BINDING) as u32);
         Some(FixedFunction {
             pipeline,
@@ -348,8 +356,8 @@ unsafe fn save(gl: &Gl, uses: Uses) -> Result<Saved> {
         None
     };
     let mut indexed = Vec::new();
-    for (target, b, s, z) in indexed_targets(gl) {
-        for index in 0..uses.indexed_bindings {
+    for (target, b, s, z, points) in indexed_targets(gl) {
+        for index in 0..uses.indexed_bindings.min(points) {
             indexed.push(Indexed {
                 target,
                 index,

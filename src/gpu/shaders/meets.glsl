@@ -2,7 +2,9 @@
 // the polygon volume test runs in double precision in a frame whose origin is the
 // reference polygon's first vertex, with its planes moved out by u_pad_rel times the
 // local size.
-uniform float u_h;
+// half_depth(): the viewing volume's half depth (a uniform for the step kernel, the
+// result header for the whole-query kernels, where the GPU may raise it).
+float half_depth();
 uniform float u_pad_rel;
 
 void poly_box(uint p, out vec3 lo, out vec3 hi) {
@@ -20,7 +22,7 @@ void poly_box(uint p, out vec3 lo, out vec3 hi) {
 bool boxes_meet(vec3 vlo, vec3 vhi, vec3 clo, vec3 chi) {
     // Grown by h plus 2^-20 of the magnitudes: float rounding can only add pairs.
     vec3 m = max(max(abs(vlo), abs(vhi)), max(abs(clo), abs(chi)));
-    vec3 g = vec3(u_h) + m * (1.0 / 1048576.0) + vec3(1e-30);
+    vec3 g = vec3(half_depth()) + m * (1.0 / 1048576.0) + vec3(1e-30);
     return all(greaterThanEqual(chi, vlo - g)) && all(greaterThanEqual(vhi + g, clo));
 }
 
@@ -119,7 +121,7 @@ bool polygon_meets(uint rp, uint cp) {
             dvec3 cb = vertex_d(c[1u + t], o);
             dvec3 cc = vertex_d(c[2u + t], o);
             double s = max(size, max(length(ca), max(length(cb), length(cc))));
-            triangle_volume(ra, rb, double(u_h), double(u_pad_rel) * s);
+            triangle_volume(ra, rb, double(half_depth()), double(u_pad_rel) * s);
             if (clip_meets(ca, cb, cc)) return true;
         }
     }

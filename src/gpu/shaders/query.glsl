@@ -8,7 +8,7 @@
 // other polygon) global ids. Every counter keeps counting past its capacity (writes past it
 // are dropped), so the CPU sees how much room a complete answer needs.
 layout(std430, binding = 5) buffer Result {
-    uint h_nonfinite;   // 0: a leaf box of a buffer-bound mesh is not finite
+    uint h_nonfinite;   // 0: 1 + the arena index of a host-buffer mesh with a NaN or infinity
     uint h_l1;          // 1: step-1 hits (other leaves in the reference root)
     uint h_pairs;       // 2: step-2 hits (leaf pairs)
     uint h_list;        // 3: list words allocated for steps 3 and 4
@@ -19,17 +19,21 @@ layout(std430, binding = 5) buffer Result {
     uint h_hits4;       // 8: step-4 hits
     uint h_total34;     // 9: step-3 and step-4 tests (threads of that dispatch)
     uint h_total5;      // 10: step-5 tests (threads of that dispatch)
-    uint h_too_many;    // 11: a dispatch would need 2^32 threads or more
-    uint h_root[6];     // 12..17: reference root, order-preserving keys (min xyz, max xyz)
-    uint h_pad1[6];     // 18..23
+    uint h_too_many;    // 11: a dispatch would need 2^31 threads or more
+    uint h_half_depth;  // 12: the half depth the tests use (float bits)
+    uint h_pad1[11];    // 13..23
     uint h_args[12];    // 24..35: indirect dispatch sizes (x, y, z, -): steps 2, 3-4, 5
     uint h_pad2[28];    // 36..63
     uint out_hits[];
 };
 layout(std430, binding = 9) buffer Boxes { float boxes[]; };
+// Root boxes per mesh of the arena (order-preserving keys: min xyz, max xyz).
+layout(std430, binding = 8) buffer Roots { uint roots[]; };
+float half_depth() { return uintBitsToFloat(h_half_depth); }
 // Per global leaf: first and end global polygon.
 layout(std430, binding = 10) readonly buffer LeafPolys { uint leaf_polys[]; };
 
+uniform uint u_ref_mesh;
 uniform uint u_ref_leaf_base;
 uniform uint u_ref_leaves;
 uniform uint u_l1_cap;
@@ -57,16 +61,17 @@ uint item_index() {
 }
 
 #if KERNEL == 1
-// One thread per leaf of every mesh: its box is the min/max of its slots (contiguous); the
-// reference's leaves also grow the reference root. A non-finite box raises h_nonfinite.
+// One thread per leaf of one mesh (u_first_leaf on): its box is the min/max of its slots
+// (contiguous), and grows the mesh's root. A NaN or infinity names the mesh in the header.
 layout(std430, binding = 7) readonly buffer LeafRange { uint leaf_range[]; };
+uniform uint u_first_leaf;
 void main() {
-    uint l = thread_index();
-    if (l >= u_count) return;
+    if (thread_index() >= u_count) return;
+    uint l = u_first_leaf + thread_index();
     vec3 lo = vec3(uintBitsToFloat(0x7f800000u));
     vec3 hi = -lo;
     bool finite = true;
-    for (uint i = leaf_range[2u * l]; i < leaf_range[2u * l + 1u]; i++) {
+    for (uint i = leaf_range[3u * l]; i < leaf_range[3u * l + 1u]; i++) {
         vec3 p = vertex_f(i);
         // On the bits: min/max would hide a NaN, and compilers may assume there is none.
         uvec3 e = floatBitsToUint(p) & 0x7f800000u;
@@ -78,35 +83,40 @@ void main() {
         boxes[6u * l + uint(k)] = lo[k];
         boxes[6u * l + 3u + uint(k)] = hi[k];
     }
-    if (!finite) atomicOr(h_nonfinite, 1u);
-    if (l >= u_ref_leaf_base && l - u_ref_leaf_base < u_ref_leaves && finite) {
-        for (int k = 0; k < 3; k++) {
-            atomicMin(h_root[k], key(lo[k]));
-            atomicMax(h_root[3 + k], key(hi[k]));
-        }
+    uint mesh = leaf_range[3u * l + 2u];
+    if (!finite) {
+        atomicCompSwap(h_nonfinite, 0u, mesh + 1u);
+        return;
+    }
+    for (uint k = 0u; k < 3u; k++) {
+        atomicMin(roots[6u * mesh + k], key(lo[k]));
+        atomicMax(roots[6u * mesh + 3u + k], key(hi[k]));
     }
 }
 #endif
 
+#if KERNEL == 2 || KERNEL == 3
+// Per other mesh of the query: first global leaf, leaves, first thread, arena index.
+layout(std430, binding = 11) readonly buffer Others { uint others[]; };
+uniform uint u_others;
+#endif
+
 #if KERNEL == 2
 // Step 1: one thread per leaf of the other meshes: is it in the reference root?
-// Others: per other mesh (first global leaf, leaves, first thread).
-layout(std430, binding = 11) readonly buffer Others { uint others[]; };
 layout(std430, binding = 2) writeonly buffer L1 { uint l1[]; };
-uniform uint u_others;
 void main() {
     uint t = thread_index();
     if (t >= u_count) return;
     uint lo = 0u, hi = u_others;
     while (hi - lo > 1u) {
         uint mid = (lo + hi) / 2u;
-        if (others[3u * mid + 2u] <= t) lo = mid; else hi = mid;
+        if (others[4u * mid + 2u] <= t) lo = mid; else hi = mid;
     }
-    uint leaf = others[3u * lo] + (t - others[3u * lo + 2u]);
+    uint leaf = others[4u * lo] + (t - others[4u * lo + 2u]);
     vec3 rlo, rhi, clo, chi;
-    for (int k = 0; k < 3; k++) {
-        rlo[k] = unkey(h_root[k]);
-        rhi[k] = unkey(h_root[3 + k]);
+    for (uint k = 0u; k < 3u; k++) {
+        rlo[k] = unkey(roots[6u * u_ref_mesh + k]);
+        rhi[k] = unkey(roots[6u * u_ref_mesh + 3u + k]);
     }
     leaf_box(leaf, clo, chi);
     if (boxes_meet(rlo, rhi, clo, chi)) {
@@ -126,8 +136,13 @@ const uint PAIR = 8u;
 uint leaf_size(uint l) { return leaf_polys[2u * l + 1u] - leaf_polys[2u * l]; }
 uint pair_count() { return min(h_pairs, u_pair_cap); }
 
-// A 2D grid of 64-thread workgroups for n threads (at most 65535 a side).
+// A 2D grid of 64-thread workgroups for n threads (at most 65535 a side); 2^31 threads or
+// more are refused (h_too_many), so the grid never wraps 32-bit thread indices.
 void set_args(uint at, uint n) {
+    if (n >= 0x80000000u) {
+        h_too_many = 1u;
+        n = 0u;
+    }
     uint groups = (n + 63u) / 64u;
     uint x = min(groups, 65535u);
     h_args[at] = x;
@@ -150,26 +165,52 @@ uint pair_of(uint t, uint w) {
 // One workgroup sizes the next step. u_src 0: step 2 (every step-1 hit against every
 // reference leaf). 1 and 2: an exclusive scan over the pairs of their step-3/4 test counts
 // (polygons of both leaves) or step-5 test counts (step-3 hits x step-4 hits), so the next
-// step runs one thread per test.
+// step runs one thread per test. 3: the half depth, raised to 2^-20 of the largest extent
+// of the query's meshes (from the roots the refit just reduced).
 uniform uint u_src;
+uniform float u_h_base;
 shared uint part[64];
 shared uint part_b[64];
 shared bool part_over[64];
-uint weight(uint k, out uint nr) {
+// A pair's test count; `over` when it does not fit in 32 bits.
+uint weight(uint k, out uint nr, inout bool over) {
+    uint a, b;
     if (u_src == 1u) {
-        nr = leaf_size(pairs[PAIR * k + 1u]);
-        return nr + leaf_size(pairs[PAIR * k]);
+        a = leaf_size(pairs[PAIR * k + 1u]);
+        b = leaf_size(pairs[PAIR * k]);
+        nr = a;
+        over = over || a + b < a;
+        return a + b;
     }
     nr = 0u;
-    return pairs[PAIR * k + 3u] * pairs[PAIR * k + 4u];
+    a = pairs[PAIR * k + 3u];
+    b = pairs[PAIR * k + 4u];
+    over = over || (a != 0u && b > 0xffffffffu / a);
+    return a * b;
+}
+double extent_of(uint mesh) {
+    double e = 0.0;
+    for (uint k = 0u; k < 3u; k++) {
+        e = max(e, double(unkey(roots[6u * mesh + 3u + k])) - double(unkey(roots[6u * mesh + k])));
+    }
+    return e;
 }
 void main() {
     uint lane = gl_LocalInvocationID.x;
+    if (u_src == 3u) {
+        if (lane == 0u) {
+            double e = extent_of(u_ref_mesh);
+            for (uint i = 0u; i < u_others; i++) e = max(e, extent_of(others[4u * i + 3u]));
+            double h = max(double(u_h_base), e / 2097152.0) * (1.0 + 1e-6);
+            h_half_depth = floatBitsToUint(float(h));
+        }
+        return;
+    }
     if (u_src == 0u) {
         if (lane == 0u) {
             uint n = min(h_l1, u_l1_cap);
-            // n * u_ref_leaves threads: refused (h_too_many) past 2^32.
-            if (u_ref_leaves != 0u && n > 0xffffffffu / u_ref_leaves) {
+            // n * u_ref_leaves threads: refused (h_too_many) from 2^31 on.
+            if (u_ref_leaves != 0u && n > 0x7fffffffu / u_ref_leaves) {
                 h_too_many = 1u;
                 n = 0u;
             }
@@ -184,7 +225,7 @@ void main() {
     bool over = false;
     for (uint k = a; k < e; k++) {
         uint nr;
-        uint w = weight(k, nr);
+        uint w = weight(k, nr, over);
         over = over || sum + w < sum;
         sum += w;
         sum_r += nr;
@@ -219,9 +260,10 @@ void main() {
     barrier();
     uint at = part[lane];
     uint word = u_src == 1u ? 5u : 6u;
+    bool ignored = false;
     for (uint k = a; k < e; k++) {
         uint nr;
-        uint w = weight(k, nr);
+        uint w = weight(k, nr, ignored);
         pairs[PAIR * k + word] = at;
         at += w;
     }

@@ -7,6 +7,8 @@ layout(std430, binding = 4) readonly buffer Groups { uint groups[]; }; // vs, vn
 layout(std430, binding = 5) buffer Hits { uint hit_count; uint hit_cap; uint hits[]; };
 uniform uint u_step;
 uniform uint u_groups;
+uniform float u_h;
+float half_depth() { return u_h; }
 
 void read_box(uint base, bool vol, out vec3 lo, out vec3 hi) {
     for (int k = 0; k < 3; k++) {
