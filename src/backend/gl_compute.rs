@@ -12,9 +12,14 @@
 //!   header of counters, then the step-5 hits). When an answer outgrows a buffer (the
 //!   counters keep counting), the buffers grow to fit and the query runs again:
 //!   `QueryStats::readbacks` counts both.
-//! - Leaf boxes: the CPU's refit is uploaded with the positions (24 bytes a leaf); when a
-//!   mesh reads a host buffer, every leaf is refitted on the GPU (one thread per leaf), the
-//!   reference root reduced with atomics, and a NaN or infinity flagged in the result.
+//! - Leaf boxes: the CPU's refit is uploaded with the positions (24 bytes a leaf), roots
+//!   and the half depth come from the CPU. When a mesh of the query reads a host buffer,
+//!   its leaves are refitted on the GPU (one thread per leaf), its root reduced with
+//!   atomics, the half depth raised on the GPU to 2^-20 of the largest root extent, and a
+//!   NaN or infinity names the mesh in the result.
+//! - Limits: room past `GL_MAX_SHADER_STORAGE_BLOCK_SIZE` is refused (OUT_OF_MEMORY)
+//!   before anything is allocated; a step of 2^31 tests or more (UNSUPPORTED) before it is
+//!   dispatched.
 //! - The step-by-step path (one dispatch per [`Batch`] through [`Selector::select`], with
 //!   a read-back per step) is kept behind [`GlComputeSelector::set_whole_query`]: the tests
 //!   check both against each other.
