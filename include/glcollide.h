@@ -188,10 +188,10 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 // with that context (or one sharing its objects) current. Every GL-backed call leaves the
 // host's GL state as it found it (see README "GL backends") and answers
 // GLCOL_STATUS_GL_ERROR, naming the GL error, if the GL reports one during its work.
-// - GLCOL_BACKEND_AUTO: GLCOL_BACKEND_GL_COMPUTE on a hardware GL 4.3+ context when
-//   epsilon > 0; the CPU backend when there is no loader or no current context, on a
-//   software renderer (llvmpipe, softpipe, SwiftShader: the CPU is faster there), or when
-//   epsilon = 0 (exact answers). `glcol_scene_backend` tells which.
+// - GLCOL_BACKEND_AUTO: GLCOL_BACKEND_GL_COMPUTE on a hardware GL 4.3+ context; the CPU
+//   backend when there is no loader or no current context, or on a software renderer
+//   (llvmpipe, softpipe, SwiftShader: the CPU is faster there). `glcol_scene_backend`
+//   tells which.
 // - GLCOL_BACKEND_GL_SELECT: needs a compatibility-profile context (or GL 3.0) and 3 clip
 //   planes; GLCOL_BACKEND_GL_COMPUTE needs GL 4.3+ (core or compatibility) with 12 shader
 //   storage buffer bindings (GL's minimum is 8; desktop drivers have 16 or more).
@@ -200,8 +200,11 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 // - A GL-backed call made while the host's transform feedback is running (not paused), or
 //   while a compatibility context is in GL_SELECT/GL_FEEDBACK render mode, answers
 //   GLCOL_STATUS_GL_UNAVAILABLE and changes nothing.
-// - GL backends: epsilon below 2^-20 times the largest extent of the meshes in a query (0
-//   included) is raised to that minimum for the query (float clip precision).
+// - GL backends: the GL's own tests use a depth of at least 2^-20 times the largest extent
+//   of the meshes in a query (float clip precision), then each hit is confirmed with the
+//   CPU backend's test at `epsilon`, so the contacts are the CPU backend's, exact at
+//   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
+//   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
 enum GlcolStatus glcol_scene_create(const struct GlcolSceneDesc *desc,
                                     struct GlcolScene **out_scene);
 

@@ -644,16 +644,17 @@ fn every_case_in_every_frame_matches_the_oracle() {
 }
 
 /// The GL backends on every case in every frame (and each case moved away by the largest
-/// gap): every intersecting pair found, extras within epsilon/2. One scene per backend,
-/// frame and epsilon (shaders compile once), meshes made and destroyed per case. Only
-/// epsilons above the GL minimum (2^-20 of the meshes' extent) run.
+/// gap): exactly the oracle's pairs at epsilon 0, and at every epsilon of the CPU runs
+/// (below the GL's minimum depth too) every intersecting pair found, extras within
+/// epsilon/2. One scene per backend, frame and epsilon (shaders compile once), meshes made
+/// and destroyed per case.
 #[test]
 fn every_case_in_every_frame_on_the_gl_backends() {
     let mut checked = 0;
     for f in gl_factories() {
         for frame in FRAMES {
             let size = 2.0 * frame.scale;
-            for rel in EPSILONS.into_iter().filter(|&r| r >= 1e-4) {
+            for rel in std::iter::once(0.0).chain(EPSILONS) {
                 let e = (rel * size) as f32;
                 let h = f64::from(e) / 2.0;
                 let mut s = (f.make)(e, 0);
@@ -677,6 +678,9 @@ fn every_case_in_every_frame_on_the_gl_backends() {
                         let got = s.pairs(ri, oi);
                         s.destroy(ri);
                         s.destroy(oi);
+                        if rel == 0.0 {
+                            assert_eq!(got, exact, "{label}: not the exact answer");
+                        }
                         for p in &exact {
                             assert!(
                                 got.binary_search(p).is_ok(),

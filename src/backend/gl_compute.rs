@@ -797,8 +797,9 @@ impl GlComputeSelector {
             let (base, mi) = bases[i];
             (mi, gp - base)
         };
-        // Every position on the CPU: each hit is confirmed with the CPU backend's test.
-        let confirm = refit.is_empty().then(|| effective_half_depth(q));
+        // Every position on the CPU: each hit is confirmed with the CPU backend's test at
+        // the epsilon asked for (the GPU used at least the minimum depth: it lost nothing).
+        let confirm = refit.is_empty().then_some(q.half_depth);
         let ref_mesh = q.meshes[0].1;
         for hit in raw[HEADER..].chunks_exact(2) {
             let (rm, rp) = locate(hit[0]);
@@ -928,7 +929,8 @@ impl GlComputeSelector {
                     batch.volumes[hit.volume as usize],
                     batch.candidates[hit.candidate as usize],
                 );
-                if confirmed(q.mesh(v), v.index as usize, q.mesh(c), c.index as usize, h) {
+                let (vm, cm) = (q.mesh(v), q.mesh(c));
+                if confirmed(vm, v.index as usize, cm, c.index as usize, q.half_depth) {
                     hits[w] = hit;
                     w += 1;
                 }
@@ -949,16 +951,20 @@ fn order_key(f: f32) -> u32 {
     }
 }
 
-/// The CPU backend's step-5 test: does polygon `c` of `cm` lie in the viewing volume of
-/// polygon `v` of `vm` (or meet it)?
+/// The CPU backend's step-5 test at half depth `h`: with `h > 0`, does polygon `c` of `cm`
+/// meet the viewing volume of polygon `v` of `vm` (clipped in f64) or intersect it
+/// exactly; with `h = 0`, do the closed polygons intersect (exact predicates)?
 fn confirmed(vm: &Mesh, v: usize, cm: &Mesh, c: usize, h: f64) -> bool {
     let mut vt = [[[0.0; 3]; 3]; 2];
     let nv = vm.triangles(v, &mut vt);
     let mut ct = [[[0.0; 3]; 3]; 2];
     let nc = cm.triangles(c, &mut ct);
     (0..nv).any(|a| {
-        let cell = Cell::of_triangle(&vt[a], h);
-        (0..nc).any(|b| cell.meets_triangle(&ct[b]) || triangles_intersect(&vt[a], &ct[b]))
+        let cell = (h > 0.0).then(|| Cell::of_triangle(&vt[a], h));
+        (0..nc).any(|b| {
+            cell.as_ref().is_some_and(|cl| cl.meets_triangle(&ct[b]))
+                || triangles_intersect(&vt[a], &ct[b])
+        })
     })
 }
 

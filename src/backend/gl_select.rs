@@ -39,14 +39,33 @@ pub const PAD_REL: f64 = 1.0 / 65536.0;
 /// of a query: a smaller epsilon (0 included) is raised to `MIN_RELATIVE_EPSILON × extent`.
 pub const MIN_RELATIVE_EPSILON: f64 = 1.0 / 1_048_576.0;
 
-/// The GL's half-depth for a query: `max(epsilon / 2, MIN_RELATIVE_EPSILON × extent / 2)`.
+/// The GL's half-depth for a query: `max(epsilon / 2, MIN_RELATIVE_EPSILON × extent / 2)`,
+/// `extent` the largest extent of the query's meshes, or when every mesh is a single point,
+/// the largest coordinate magnitude (1 at the origin): the GL never gets a zero depth.
 pub fn effective_half_depth(q: &QueryMeshes<'_>) -> f64 {
     let extent = q
         .meshes
         .iter()
         .map(|(_, m)| f64::from(m.root().extent()))
         .fold(0.0, f64::max);
-    q.half_depth.max(MIN_RELATIVE_EPSILON * extent / 2.0)
+    let size = if extent > 0.0 {
+        extent
+    } else {
+        let far = q
+            .meshes
+            .iter()
+            .flat_map(|(_, m)| {
+                let r = m.root();
+                r.min.into_iter().chain(r.max)
+            })
+            .fold(0.0f64, |a, c| a.max(f64::from(c).abs()));
+        if far > 0.0 {
+            far
+        } else {
+            1.0
+        }
+    };
+    q.half_depth.max(MIN_RELATIVE_EPSILON * size / 2.0)
 }
 
 const SELECT: u32 = 0x1C02;
@@ -417,8 +436,13 @@ impl Selector for GlSelectSelector {
                                 }
                             }
                             hits.truncate(w);
-                            // Confirm on the CPU: the viewing volume in f64, or exact contact.
-                            let cells = [0, nv - 1].map(|a| Cell::of_triangle(&vt[a], h));
+                            // Confirm on the CPU with the CPU backend's test at the epsilon
+                            // asked for (the GL used at least the minimum depth, so it lost
+                            // nothing): the viewing volume in f64, or exact contact; exact
+                            // contact alone at epsilon 0.
+                            let hq = q.half_depth;
+                            let cells = (hq > 0.0)
+                                .then(|| [0, nv - 1].map(|a| Cell::of_triangle(&vt[a], hq)));
                             let tris = &sc.tris;
                             let base = grp.candidates.start;
                             let mut w = first;
@@ -427,7 +451,9 @@ impl Selector for GlSelectSelector {
                                 let (ct, nc, _) = &tris[(hit.candidate - base) as usize];
                                 let meets = (0..nv).any(|a| {
                                     (0..*nc).any(|c| {
-                                        cells[a].meets_triangle(&ct[c])
+                                        cells
+                                            .as_ref()
+                                            .is_some_and(|cl| cl[a].meets_triangle(&ct[c]))
                                             || triangles_intersect(&vt[a], &ct[c])
                                     })
                                 });

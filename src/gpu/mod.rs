@@ -247,9 +247,9 @@ pub enum Request {
 }
 
 /// Makes the selector a scene asks for, loading GL through `gpa` for the current context.
-/// AUTO: the CPU when there is no loader, no usable context, a software renderer
-/// (llvmpipe, softpipe, SwiftShader), or `epsilon == 0` (an exact answer is asked for);
-/// GL_COMPUTE on a hardware GL 4.3+ context; the CPU otherwise.
+/// AUTO (as API.md says): the CPU when there is no loader, no usable context or a software
+/// renderer (llvmpipe, softpipe, SwiftShader); GL_COMPUTE on a hardware GL 4.3+ context;
+/// the CPU otherwise.
 ///
 /// # Safety
 /// `gpa` must be a GL loader for the calling thread's current context.
@@ -257,7 +257,6 @@ pub unsafe fn selector_for(
     req: Request,
     gpa: Option<GetProcAddress>,
     user_data: *mut c_void,
-    epsilon: f32,
 ) -> Result<Box<dyn Selector>> {
     let name = match req {
         Request::Auto => "GLCOL_BACKEND_AUTO",
@@ -279,7 +278,7 @@ pub unsafe fn selector_for(
     };
     match req {
         Request::Auto => {
-            if epsilon == 0.0 || gl.info.software() || !gl.info.compute {
+            if gl.info.software() || !gl.info.compute {
                 return Ok(Box::new(CpuSelector::new()));
             }
             match crate::backend::gl_compute::GlComputeSelector::new(gl) {

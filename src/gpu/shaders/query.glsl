@@ -195,12 +195,23 @@ double extent_of(uint mesh) {
     }
     return e;
 }
+double far_of(uint mesh) {
+    double f = 0.0;
+    for (uint k = 0u; k < 6u; k++) f = max(f, abs(double(unkey(roots[6u * mesh + k]))));
+    return f;
+}
 void main() {
     uint lane = gl_LocalInvocationID.x;
     if (u_src == 3u) {
         if (lane == 0u) {
             double e = extent_of(u_ref_mesh);
             for (uint i = 0u; i < u_others; i++) e = max(e, extent_of(others[4u * i + 3u]));
+            if (e == 0.0) {
+                // Every mesh a single point: the largest coordinate magnitude, or 1.
+                e = far_of(u_ref_mesh);
+                for (uint i = 0u; i < u_others; i++) e = max(e, far_of(others[4u * i + 3u]));
+                if (e == 0.0) e = 1.0;
+            }
             double h = max(double(u_h_base), e / 2097152.0) * (1.0 + 1e-6);
             h_half_depth = floatBitsToUint(float(h));
         }
