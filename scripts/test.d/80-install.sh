@@ -76,8 +76,11 @@ libdir=$(pkg-config --variable=libdir glcollide)
 # shellcheck disable=SC2046
 if cc "${cflags[@]}" "$consumer/consumer.c" $(pkg-config --cflags --libs glcollide) \
      -Wl,-rpath,"$libdir" -o "$work/consumer_c"; then
-  ldd "$work/consumer_c" | grep -q "libglcollide.so.$sover => $libdir/" \
-    && ok "consumer_c loads $libdir/libglcollide.so.$sover" || bad "consumer_c does not load the installed soname: $(ldd "$work/consumer_c" | grep glcollide)"
+  # ldd's output is kept first: `ldd | grep -q` under pipefail fails when grep exits before
+  # ldd has written everything (SIGPIPE), a flake seen in CI.
+  ldd "$work/consumer_c" >"$work/consumer_c.ldd"
+  grep -q "libglcollide.so.$sover => $libdir/" "$work/consumer_c.ldd" \
+    && ok "consumer_c loads $libdir/libglcollide.so.$sover" || bad "consumer_c does not load the installed soname: $(grep glcollide "$work/consumer_c.ldd")"
   check_run consumer_c "$work/consumer_c"
 else
   bad "consumer.c does not build with pkg-config --cflags --libs glcollide"
@@ -86,7 +89,8 @@ fi
 # shellcheck disable=SC2046
 if cc "${cflags[@]}" "$consumer/consumer.c" $(pkg-config --cflags glcollide) "$libdir/libglcollide.a" \
      $(pkg-config --static --libs-only-l glcollide | sed 's/-lglcollide//') -o "$work/consumer_c_static"; then
-  ldd "$work/consumer_c_static" | grep -q glcollide && bad "consumer_c_static links libglcollide.so" || true
+  ldd "$work/consumer_c_static" >"$work/consumer_c_static.ldd"
+  grep -q glcollide "$work/consumer_c_static.ldd" && bad "consumer_c_static links libglcollide.so" || true
   check_run consumer_c_static "$work/consumer_c_static"
 else
   bad "consumer.c does not link statically with pkg-config --static"
