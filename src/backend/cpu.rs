@@ -12,36 +12,53 @@
 //! all pairs for small groups, a sort-and-sweep along the widest axis for large ones, so a
 //! leaf pair in deep contact costs about its box overlaps rather than the product of its
 //! polygon counts.
+//!
+//! The whole query normally runs fused ([`fused`]): the same five steps and tests, leaf pair
+//! by leaf pair, without batches. [`CpuSelector::set_fused`] turns that off, so each step
+//! goes through [`Selector::select`] (the tests compare the two).
 
-use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step};
+mod fused;
+mod lanes;
+
+use super::{Backend, Batch, Hit, Prim, QueryMeshes, Selector, Step};
 use crate::error::Result;
 use crate::geom::tritri::{triangles_intersect, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::{Aabb, P3};
+use crate::query::{Contact, QueryStats};
+use lanes::Lanes;
 
 /// Groups with at most this many volume-candidate tests are paired by brute force.
 const SWEEP_ABOVE: usize = 1024;
 
-/// Polygon boxes of one mesh, computed on first use and valid while the mesh's positions
-/// do not change (its generation): a polygon is boxed once per frame, however many steps
-/// and leaf pairs ask about it.
+/// Polygon boxes of one mesh, computed on first use (polygon by polygon, or a whole leaf at
+/// once) and valid while the mesh's positions do not change (its generation): a polygon is
+/// boxed once per frame, however many steps and leaf pairs ask about it.
 #[derive(Default)]
 struct BoxCache {
     id: u32,
     generation: u64,
     /// `stamp[p] == current` marks `boxes[p]` valid.
     stamp: Vec<u32>,
+    /// `leaf_stamp[l] == current` marks the boxes of all of leaf `l`'s polygons valid.
+    leaf_stamp: Vec<u32>,
     current: u32,
-    boxes: Vec<Aabb>,
+    boxes: Lanes,
 }
 
 impl BoxCache {
     fn revalidate(&mut self, id: u32, m: &crate::mesh::Mesh) {
         let n = m.polygon_count();
-        if self.id != id || self.boxes.len() != n || self.current == u32::MAX {
+        if self.id != id
+            || self.boxes.len() != n
+            || self.leaf_stamp.len() != m.leaf_count()
+            || self.current == u32::MAX
+        {
             self.stamp.clear();
             self.stamp.resize(n, 0);
-            self.boxes.resize(n, Aabb::EMPTY);
+            self.leaf_stamp.clear();
+            self.leaf_stamp.resize(m.leaf_count(), 0);
+            self.boxes.resize(n);
             self.current = 1;
         } else if self.generation != m.generation {
             self.current += 1;
@@ -50,19 +67,34 @@ impl BoxCache {
         self.generation = m.generation;
     }
 
+    /// Makes the boxes of leaf `l`'s polygons valid; returns their range in `boxes`.
+    #[inline]
+    fn leaf(&mut self, m: &crate::mesh::Mesh, l: usize) -> std::ops::Range<usize> {
+        let r = m.leaves.polys(l);
+        if self.leaf_stamp[l] != self.current {
+            self.boxes.fit_polygons(m, r.clone());
+            self.stamp[r.clone()].fill(self.current);
+            self.leaf_stamp[l] = self.current;
+        }
+        r
+    }
+
     #[inline]
     fn get(&mut self, m: &crate::mesh::Mesh, p: usize) -> Aabb {
         if self.stamp[p] != self.current {
-            self.boxes[p] = m.poly_box(p);
+            self.boxes.set(p, &m.poly_box(p));
             self.stamp[p] = self.current;
         }
-        self.boxes[p]
+        self.boxes.get(p)
     }
 }
 
 /// The CPU backend. Holds scratch space and the polygon-box caches.
 #[derive(Default)]
 pub struct CpuSelector {
+    /// Answer step by step through [`Selector::select`] instead of the fused query.
+    step_by_step: bool,
+    fused: fused::Scratch,
     caches: Vec<BoxCache>,
     /// Query mesh slot -> index in `caches`.
     slot_cache: Vec<usize>,
@@ -108,7 +140,7 @@ impl Default for Prepared {
 
 impl Prepared {
     #[inline]
-    fn get(&mut self, stamp: u32, q: &QueryMeshes<'_>, p: super::Prim) -> Prepared {
+    fn get(&mut self, stamp: u32, q: &QueryMeshes<'_>, p: Prim) -> &Prepared {
         if self.stamp != stamp {
             let mut tris = [[[0.0; 3]; 3]; 2];
             let n = q.mesh(p).triangles(p.index as usize, &mut tris);
@@ -116,13 +148,43 @@ impl Prepared {
             self.planes = [Plane::of(&tris[0]), Plane::of(&tris[n - 1])];
             self.stamp = stamp;
         }
-        *self
+        self
     }
+
+    /// The viewing volumes of the polygon's triangles (`h > 0`).
+    fn cells(&self, h: f64) -> [Cell; 2] {
+        [
+            Cell::of_triangle(&self.poly.tris[0], h),
+            Cell::of_triangle(&self.poly.tris[self.poly.n - 1], h),
+        ]
+    }
+}
+
+/// Step 5's test of a box-overlapping pair: candidate polygon `c` survives clipping against
+/// the viewing volumes `cells` of volume polygon `v` (`h > 0`), or the closed polygons
+/// intersect (exact predicates, after a conservative plane rejection).
+#[inline]
+fn polygons_meet(v: &Prepared, c: &Prepared, cells: Option<&[Cell; 2]>) -> bool {
+    (0..v.poly.n).any(|a| {
+        (0..c.poly.n).any(|b| {
+            let (ta, tb) = (&v.poly.tris[a], &c.poly.tris[b]);
+            cells.is_some_and(|cl| cl[a].meets_triangle(tb))
+                || (!v.planes[a].separates(tb)
+                    && !c.planes[b].separates(ta)
+                    && triangles_intersect(ta, tb))
+        })
+    })
 }
 
 impl CpuSelector {
     pub fn new() -> CpuSelector {
         CpuSelector::default()
+    }
+
+    /// Fused query (the default) or step by step through batches: the same answer and
+    /// the same per-step test and hit counts.
+    pub fn set_fused(&mut self, on: bool) {
+        self.step_by_step = !on;
     }
 
     /// Maps the query's meshes to their caches (made or revalidated), dropping the caches
@@ -154,6 +216,19 @@ impl std::fmt::Debug for CpuSelector {
 impl Selector for CpuSelector {
     fn backend(&self) -> Backend {
         Backend::Cpu
+    }
+
+    fn run_query(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) -> Result<bool> {
+        if self.step_by_step {
+            return Ok(false);
+        }
+        self.run_fused(q, out, stats);
+        Ok(true)
     }
 
     fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
@@ -225,24 +300,9 @@ impl Selector for CpuSelector {
             for &(v, c) in &self.pairs {
                 let pv = self.vprep[v as usize].get(stamp, q, vols[v as usize]);
                 let pc = self.cprep[c as usize].get(stamp, q, cands[c as usize]);
-                let cells = (h > 0.0).then(|| {
-                    &*self.cells[v as usize].get_or_insert_with(|| {
-                        [
-                            Cell::of_triangle(&pv.poly.tris[0], h),
-                            Cell::of_triangle(&pv.poly.tris[pv.poly.n - 1], h),
-                        ]
-                    })
-                });
-                let meets = (0..pv.poly.n).any(|a| {
-                    (0..pc.poly.n).any(|b| {
-                        let (ta, tb) = (&pv.poly.tris[a], &pc.poly.tris[b]);
-                        cells.is_some_and(|cl| cl[a].meets_triangle(tb))
-                            || (!pv.planes[a].separates(tb)
-                                && !pc.planes[b].separates(ta)
-                                && triangles_intersect(ta, tb))
-                    })
-                });
-                if meets {
+                let cells =
+                    (h > 0.0).then(|| &*self.cells[v as usize].get_or_insert_with(|| pv.cells(h)));
+                if polygons_meet(pv, pc, cells) {
                     hits.push(hit((v, c)));
                 }
             }

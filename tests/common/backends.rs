@@ -2,10 +2,12 @@
 //! epsilon and a leaf size, behind the small [`TestScene`] interface, so a suite written
 //! once (`for f in factories() { ... }`) runs on each of them.
 //!
-//! Today: the CPU backend through the safe API and through the C ABI. A GL backend adds a
-//! `Factory` here (a C ABI scene made with `GLCOL_BACKEND_GL_*` and a loader for a current
-//! headless context); every suite that loops over [`factories`] then covers it.
+//! Today: the CPU backend through the safe API (fused query and step by step) and through
+//! the C ABI. A GL backend adds a `Factory` here (a C ABI scene made with
+//! `GLCOL_BACKEND_GL_*` and a loader for a current headless context); every suite that
+//! loops over [`factories`] then covers it.
 
+use glcollide::backend::cpu::CpuSelector;
 use glcollide::ffi::*;
 use glcollide::{Positions, Scene, SceneConfig};
 
@@ -84,6 +86,11 @@ pub fn factories() -> Vec<Factory> {
             exact: true,
         },
         Factory {
+            name: "cpu step by step (safe API)",
+            make: |e, leaf| Box::new(SafeScene::step_by_step(e, leaf)),
+            exact: true,
+        },
+        Factory {
             name: "cpu (C ABI)",
             make: |e, leaf| Box::new(FfiScene::new(GlcolBackend::Cpu, e, leaf)),
             exact: true,
@@ -103,6 +110,17 @@ impl SafeScene {
             })
             .unwrap(),
         )
+    }
+
+    /// The CPU backend answering each step through a batch instead of its fused query.
+    pub fn step_by_step(epsilon: f32, leaf: u32) -> SafeScene {
+        let mut sel = CpuSelector::new();
+        sel.set_fused(false);
+        let config = SceneConfig {
+            epsilon,
+            max_polygons_per_box: leaf,
+        };
+        SafeScene(Scene::with_selector(config, Box::new(sel)).unwrap())
     }
 }
 
