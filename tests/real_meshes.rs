@@ -331,7 +331,7 @@ fn random_jitter_bunny_against_teapot() {
         bunny.pos = place_scaled(
             &bunny0.pos,
             to,
-            rng.range(0.0, 6.28) as f32,
+            rng.range(0.0, std::f64::consts::TAU) as f32,
             0.5 * text / bext,
         );
         let mut teapot = teapot0.clone();

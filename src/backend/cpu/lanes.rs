@@ -124,6 +124,12 @@ impl Lanes {
             return;
         }
         let chunks = range.len().div_ceil(LANES);
+        // A mask entry holds (candidate, chunk) in 24 bits.
+        assert!(
+            cands.len() * chunks < 1 << 24,
+            "each_pair: {} x {chunks} chunk tests, more than a mask entry can name",
+            cands.len()
+        );
         if masks.len() < chunks * cands.len() {
             masks.resize(chunks * cands.len(), 0);
         }
