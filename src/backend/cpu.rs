@@ -22,7 +22,7 @@ mod lanes;
 
 use super::{Backend, Batch, Hit, Prim, QueryMeshes, Selector, Step};
 use crate::error::Result;
-use crate::geom::tritri::{triangles_intersect, Plane};
+use crate::geom::tritri::{separated, triangles_intersect_with, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::{Aabb, P3};
 use crate::query::{Contact, QueryStats};
@@ -168,10 +168,14 @@ fn polygons_meet(v: &Prepared, c: &Prepared, cells: Option<&[Cell; 2]>) -> bool 
     (0..v.poly.n).any(|a| {
         (0..c.poly.n).any(|b| {
             let (ta, tb) = (&v.poly.tris[a], &c.poly.tris[b]);
-            cells.is_some_and(|cl| cl[a].meets_triangle(tb))
-                || (!v.planes[a].separates(tb)
-                    && !c.planes[b].separates(ta)
-                    && triangles_intersect(ta, tb))
+            cells.is_some_and(|cl| cl[a].meets_triangle(tb)) || {
+                // The planes' certain signs spare the exact test those orientations.
+                let su = v.planes[a].sides(tb);
+                !separated(su) && {
+                    let st = c.planes[b].sides(ta);
+                    !separated(st) && triangles_intersect_with(ta, tb, su, st)
+                }
+            }
         })
     })
 }

@@ -10,20 +10,35 @@ use super::predicates::{collinear, drop_axis, orient2d, orient3d, P3};
 
 /// Do the closed triangles `t` and `u` share at least one point? Touching counts.
 pub fn triangles_intersect(t: &[P3; 3], u: &[P3; 3]) -> bool {
+    triangles_intersect_with(t, u, [0; 3], [0; 3])
+}
+
+/// [`triangles_intersect`] given signs already known for certain: `ut[i]` is the sign of
+/// `orient3d(t0, t1, t2, u[i])` (from [`Plane::sides`] of `t`'s plane), `tu[i]` that of
+/// `orient3d(u0, u1, u2, t[i])`; 0 means unknown, and the exact predicate is evaluated.
+/// Only signs are used below, so a certain sign stands for the exact value.
+pub fn triangles_intersect_with(t: &[P3; 3], u: &[P3; 3], ut: [i8; 3], tu: [i8; 3]) -> bool {
+    let side = |hint: i8, a: &P3, b: &P3, c: &P3, d: &P3| {
+        if hint != 0 {
+            f64::from(hint)
+        } else {
+            orient3d(a, b, c, d)
+        }
+    };
     // Plane rejections: every vertex of one strictly on one side of the other's plane.
     // (A degenerate triangle has all orientations 0 and never rejects.)
     let ut = [
-        orient3d(&t[0], &t[1], &t[2], &u[0]),
-        orient3d(&t[0], &t[1], &t[2], &u[1]),
-        orient3d(&t[0], &t[1], &t[2], &u[2]),
+        side(ut[0], &t[0], &t[1], &t[2], &u[0]),
+        side(ut[1], &t[0], &t[1], &t[2], &u[1]),
+        side(ut[2], &t[0], &t[1], &t[2], &u[2]),
     ];
     if strictly_one_side(&ut) {
         return false;
     }
     let tu = [
-        orient3d(&u[0], &u[1], &u[2], &t[0]),
-        orient3d(&u[0], &u[1], &u[2], &t[1]),
-        orient3d(&u[0], &u[1], &u[2], &t[2]),
+        side(tu[0], &u[0], &u[1], &u[2], &t[0]),
+        side(tu[1], &u[0], &u[1], &u[2], &t[1]),
+        side(tu[2], &u[0], &u[1], &u[2], &t[2]),
     ];
     if strictly_one_side(&tu) {
         return false;
@@ -83,18 +98,30 @@ impl Plane {
     /// (then the triangles cannot meet). False means "ask the exact test".
     #[inline]
     pub fn separates(&self, u: &[P3; 3]) -> bool {
-        let (mut pos, mut neg) = (true, true);
-        for p in u {
+        separated(self.sides(u))
+    }
+
+    /// Per point of `u`: the sign of `orient3d(t0, t1, t2, p)` for the plane's triangle
+    /// `t` when the floating-point distance is certain of it (beyond its error bound), 0
+    /// when only the exact predicate can tell.
+    #[inline]
+    pub fn sides(&self, u: &[P3; 3]) -> [i8; 3] {
+        u.map(|p| {
             let w = [p[0] - self.o[0], p[1] - self.o[1], p[2] - self.o[2]];
             let s = self.n[0] * w[0] + self.n[1] * w[1] + self.n[2] * w[2];
             let bound = PLANE_SLACK
                 * (self.perm[0] * w[0].abs()
                     + self.perm[1] * w[1].abs()
                     + self.perm[2] * w[2].abs());
-            pos &= s > bound;
-            neg &= s < -bound;
-        }
-        pos || neg
+            // orient3d(t0, t1, t2, p) = -((t1 - t0) x (t2 - t0)) . (p - t0).
+            if s > bound {
+                -1
+            } else if s < -bound {
+                1
+            } else {
+                0
+            }
+        })
     }
 }
 
@@ -160,6 +187,12 @@ fn gd_second(
 #[inline]
 fn gd_check(p1: &P3, q1: &P3, r1: &P3, p2: &P3, q2: &P3, r2: &P3) -> bool {
     orient3d(p2, p1, q2, q1) <= 0.0 && orient3d(p2, r1, r2, p1) <= 0.0
+}
+
+/// All three sides certain and the same (see [`Plane::sides`]).
+#[inline]
+pub fn separated(s: [i8; 3]) -> bool {
+    s == [1, 1, 1] || s == [-1, -1, -1]
 }
 
 #[inline]
@@ -433,6 +466,63 @@ mod tests {
             fast > 10_000 && hits > 1_000,
             "{fast} general-position pairs, {hits} meeting"
         );
+    }
+
+    #[test]
+    fn plane_sides_agree_with_orient3d_when_certain() {
+        let mut s = 12345u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut certain = 0;
+        for i in 0..20000 {
+            // Random triangles, slivers and near-coplanar points, at several scales.
+            let scale = [1.0, 1e-4, 1e4, 1e6][i % 4];
+            let mut t = [[0.0; 3]; 3];
+            for v in &mut t {
+                *v = [rnd() * scale, rnd() * scale, rnd() * scale].map(|x| x as f32 as f64);
+            }
+            if i % 3 == 1 {
+                t[2] = [
+                    t[0][0] + (t[1][0] - t[0][0]) * 0.5 + rnd() * scale * 1e-7,
+                    t[0][1] + (t[1][1] - t[0][1]) * 0.5,
+                    t[0][2] + (t[1][2] - t[0][2]) * 0.5,
+                ]
+                .map(|x| x as f32 as f64);
+            }
+            let mut u = [[0.0; 3]; 3];
+            for v in &mut u {
+                let a = rnd() + 0.5;
+                let b = rnd() + 0.5;
+                let off = if i % 5 == 0 {
+                    rnd() * scale * 1e-7
+                } else {
+                    rnd() * scale
+                };
+                *v = [
+                    t[0][0] + a * (t[1][0] - t[0][0]) + b * (t[2][0] - t[0][0]) + off,
+                    t[0][1] + a * (t[1][1] - t[0][1]) + b * (t[2][1] - t[0][1]) + off,
+                    t[0][2] + a * (t[1][2] - t[0][2]) + b * (t[2][2] - t[0][2]),
+                ]
+                .map(|x| x as f32 as f64);
+            }
+            let sides = Plane::of(&t).sides(&u);
+            for k in 0..3 {
+                let o = orient3d(&t[0], &t[1], &t[2], &u[k]);
+                if sides[k] != 0 {
+                    certain += 1;
+                    assert_eq!(f64::from(sides[k]), o.signum(), "{t:?} {u:?} {k}");
+                }
+            }
+            let exact = triangles_intersect(&t, &u);
+            let su = Plane::of(&t).sides(&u);
+            let st = Plane::of(&u).sides(&t);
+            assert_eq!(triangles_intersect_with(&t, &u, su, st), exact);
+        }
+        assert!(certain > 20000, "{certain}");
     }
 
     #[test]
