@@ -7,7 +7,6 @@
 //! CPU work, so this measures overheads, not what a GPU would do; AUTO picks the CPU there.
 //! Exits 1 if a GL backend's contacts differ from the CPU backend's in any frame.
 
-use std::ffi::c_void;
 use std::time::Instant;
 
 use glcollide::backend::gl_compute::GlComputeSelector;
@@ -16,46 +15,11 @@ use glcollide::backend::Selector;
 use glcollide::gpu::Gl;
 use glcollide::obj::load;
 use glcollide::{Positions, Scene, SceneConfig};
-use khronos_egl as egl;
 
-extern "C" {
-    fn eglGetProcAddress(name: *const std::ffi::c_char) -> *mut c_void;
-}
+#[path = "../tests/gl_support/mod.rs"]
+mod gl_support;
 
-unsafe extern "C" fn gpa(_: *mut c_void, name: *const std::ffi::c_char) -> *mut c_void {
-    eglGetProcAddress(name)
-}
-
-/// A compatibility-profile context on Mesa's surfaceless platform, current from here on.
-fn context() -> Option<String> {
-    let egl = egl::Instance::new(egl::Static);
-    let display =
-        unsafe { egl.get_platform_display(0x31DD, egl::DEFAULT_DISPLAY, &[egl::ATTRIB_NONE]) }
-            .ok()?;
-    egl.initialize(display).ok()?;
-    egl.bind_api(egl::OPENGL_API).ok()?;
-    let config = egl
-        .choose_first_config(
-            display,
-            &[
-                egl::RENDERABLE_TYPE,
-                egl::OPENGL_BIT,
-                egl::SURFACE_TYPE,
-                egl::PBUFFER_BIT,
-                egl::NONE,
-            ],
-        )
-        .ok()??;
-    let attribs = [
-        egl::CONTEXT_OPENGL_PROFILE_MASK,
-        egl::CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT,
-        egl::NONE,
-    ];
-    let ctx = egl.create_context(display, config, None, &attribs).ok()?;
-    egl.make_current(display, None, None, Some(ctx)).ok()?;
-    let gl = unsafe { Gl::load(gpa, std::ptr::null_mut()) }.ok()?;
-    Some(format!("{} / {}", gl.info.version_string, gl.info.renderer))
-}
+use gl_support::{get_proc_address as gpa, Ctx, Profile};
 
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -200,10 +164,10 @@ fn main() {
         .skip(1)
         .find_map(|a| a.parse().ok())
         .unwrap_or(40);
-    let Some(what) = context() else {
-        println!("no EGL/GL context here: nothing to measure");
-        return;
-    };
+    // A compatibility-profile context on Mesa's surfaceless platform, current from here on.
+    let _ctx = Ctx::new(Profile::Compat);
+    let info = unsafe { Gl::load(gpa, std::ptr::null_mut()) }.unwrap().info;
+    let what = format!("{} / {}", info.version_string, info.renderer);
     println!("context: {what}; {frames} frames, epsilon 0.001, median of update + query\n");
     println!(
         "| scene | backend | ms per frame | read-backs per query | contacts per frame | = CPU |"

@@ -484,8 +484,9 @@ fn box_pairs(
 mod tests {
     use super::*;
 
-    #[test]
-    fn sweep_finds_exactly_the_overlapping_pairs() {
+    /// 150 boxes of sides up to 2 and 170 of sides up to 1 in a cube of side 10
+    /// (deterministic), for the sweeps' tests.
+    pub(super) fn random_boxes() -> (Vec<Aabb>, Vec<Aabb>) {
         let mut s = 12345u64;
         let mut rnd = || {
             s ^= s << 13;
@@ -506,7 +507,12 @@ mod tests {
                 .collect()
         };
         let vb = boxes(150, 2.0);
-        let cb = boxes(170, 1.0);
+        (vb, boxes(170, 1.0))
+    }
+
+    #[test]
+    fn sweep_finds_exactly_the_overlapping_pairs() {
+        let (vb, cb) = random_boxes();
         for h in [0.0, 0.3] {
             let mut got = Vec::new();
             box_pairs(

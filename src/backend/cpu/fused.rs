@@ -440,27 +440,7 @@ mod tests {
 
     #[test]
     fn sweep_finds_exactly_the_overlapping_pairs() {
-        let mut s = 12345u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
-        let mut boxes = |n: usize, size: f32| -> Vec<Aabb> {
-            (0..n)
-                .map(|_| {
-                    let p = [rnd() * 10.0, rnd() * 10.0, rnd() * 10.0];
-                    let d = [rnd() * size, rnd() * size, rnd() * size];
-                    Aabb {
-                        min: p,
-                        max: [p[0] + d[0], p[1] + d[1], p[2] + d[2]],
-                    }
-                })
-                .collect()
-        };
-        let vb = boxes(150, 2.0);
-        let cb = boxes(170, 1.0);
+        let (vb, cb) = super::super::tests::random_boxes();
         let mut got = Vec::new();
         Sweep::default().pairs(&vb, &cb, &mut got);
         got.sort_unstable();
