@@ -108,7 +108,7 @@ pub struct CpuSelector {
     cells: Vec<Option<[Cell; 2]>>,
     vprep: Vec<Prepared>,
     cprep: Vec<Prepared>,
-    stamp: u32,
+    stamp: u64,
 }
 
 /// A polygon as one or two `f64` triangles.
@@ -122,7 +122,7 @@ struct Polygon {
 /// while `stamp` is the group's.
 #[derive(Clone, Copy)]
 struct Prepared {
-    stamp: u32,
+    stamp: u64,
     poly: Polygon,
     planes: [Plane; 2],
 }
@@ -140,7 +140,7 @@ impl Default for Prepared {
 
 impl Prepared {
     #[inline]
-    fn get(&mut self, stamp: u32, q: &QueryMeshes<'_>, p: Prim) -> &Prepared {
+    fn get(&mut self, stamp: u64, q: &QueryMeshes<'_>, p: Prim) -> &Prepared {
         if self.stamp != stamp {
             let mut tris = [[[0.0; 3]; 3]; 2];
             let n = q.mesh(p).triangles(p.index as usize, &mut tris);
@@ -290,7 +290,7 @@ impl Selector for CpuSelector {
             // Step 5: the narrow test on the box-overlapping pairs. Each polygon of the
             // group is widened to f64 and given its planes once (on first use), and each
             // volume its cells.
-            self.stamp = self.stamp.wrapping_add(1).max(1);
+            self.stamp += 1; // 64 bits: never wraps, so a stale entry never looks fresh
             let stamp = self.stamp;
             if self.vprep.len() < vols.len() {
                 self.vprep.resize(vols.len(), Prepared::default());

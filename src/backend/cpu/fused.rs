@@ -179,7 +179,7 @@ impl CpuSelector {
             if s.box_pairs.is_empty() {
                 continue;
             }
-            self.stamp = self.stamp.wrapping_add(1).max(1);
+            self.stamp += 1; // 64 bits: never wraps, so a stale entry never looks fresh
             let stamp = self.stamp;
             if self.vprep.len() < refs.len() {
                 self.vprep.resize(refs.len(), Prepared::default());
