@@ -110,8 +110,8 @@ impl Lanes {
     }
 
     /// Calls `f(i, c)` for every box `i` of `range` (`range.end <= len`) that meets
-    /// `cands[c]`, candidate after candidate, in ascending order for each. `masks` is
-    /// scratch.
+    /// `cands[c]`, candidate after candidate, in ascending order for each (for very large
+    /// requests, past 2^24 chunk tests, block of the range by block). `masks` is scratch.
     pub fn each_pair(
         &self,
         range: std::ops::Range<usize>,
@@ -120,16 +120,35 @@ impl Lanes {
         mut f: impl FnMut(u32, u32),
     ) {
         assert!(range.end <= self.len());
+        // A mask entry names (candidate, chunk) in 24 bits: blocks of at most 2^12
+        // candidates and 2^12 chunks keep every name in range.
+        const BLOCK: usize = 1 << 12;
+        if cands.len() * range.len().div_ceil(LANES) < 1 << 24 {
+            return self.each_pair_block(range, cands, 0, masks, &mut f);
+        }
+        for start in range.clone().step_by(BLOCK * LANES) {
+            let r = start..(start + BLOCK * LANES).min(range.end);
+            for (b, block) in cands.chunks(BLOCK).enumerate() {
+                self.each_pair_block(r.clone(), block, (b * BLOCK) as u32, masks, &mut f);
+            }
+        }
+    }
+
+    /// [`Lanes::each_pair`] for `cands.len() * chunks < 2^24`, candidates numbered from
+    /// `c0`.
+    fn each_pair_block(
+        &self,
+        range: std::ops::Range<usize>,
+        cands: &[Aabb],
+        c0: u32,
+        masks: &mut Vec<u32>,
+        f: &mut impl FnMut(u32, u32),
+    ) {
         if range.is_empty() {
             return;
         }
         let chunks = range.len().div_ceil(LANES);
-        // A mask entry holds (candidate, chunk) in 24 bits.
-        assert!(
-            cands.len() * chunks < 1 << 24,
-            "each_pair: {} x {chunks} chunk tests, more than a mask entry can name",
-            cands.len()
-        );
+        debug_assert!(cands.len() * chunks < 1 << 24);
         if masks.len() < chunks * cands.len() {
             masks.resize(chunks * cands.len(), 0);
         }
@@ -153,7 +172,7 @@ impl Lanes {
                 bits &= last;
             }
             while bits != 0 {
-                f(first + j * LANES as u32 + bits.trailing_zeros(), c);
+                f(first + j * LANES as u32 + bits.trailing_zeros(), c0 + c);
                 bits &= bits - 1;
             }
         }
@@ -311,6 +330,27 @@ mod tests {
                 assert_eq!(got, want);
             }
         }
+        // Past 2^24 chunk tests the range is taken block by block: same pairs.
+        let many: Vec<Aabb> = (0..5000).map(|i| boxes[i % boxes.len()]).collect();
+        let mut big = Lanes::default();
+        big.resize(40_000);
+        for i in 0..40_000 {
+            big.set(i, &boxes[i % boxes.len()]);
+        }
+        let mut got = Vec::new();
+        big.each_pair(0..40_000, &many[..3], &mut Vec::new(), |i, c| {
+            got.push((c, i))
+        });
+        let mut blocked = Vec::new();
+        big.each_pair(0..40_000, &many, &mut Vec::new(), |i, c| {
+            if c < 3 {
+                blocked.push((c, i))
+            }
+        });
+        got.sort_unstable();
+        blocked.sort_unstable();
+        assert!(!got.is_empty());
+        assert_eq!(got, blocked);
         // Shrinking keeps the padding.
         lanes.resize(3);
         assert_eq!(lanes.len(), 3);
