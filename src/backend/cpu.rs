@@ -139,14 +139,22 @@ impl Default for Prepared {
 }
 
 impl Prepared {
+    /// The polygon made of `tris[..n]`.
+    #[inline]
+    fn of(tris: [[P3; 3]; 2], n: usize, stamp: u64) -> Prepared {
+        Prepared {
+            stamp,
+            poly: Polygon { tris, n },
+            planes: [Plane::of(&tris[0]), Plane::of(&tris[n - 1])],
+        }
+    }
+
     #[inline]
     fn get(&mut self, stamp: u64, q: &QueryMeshes<'_>, p: Prim) -> &Prepared {
         if self.stamp != stamp {
             let mut tris = [[[0.0; 3]; 3]; 2];
             let n = q.mesh(p).triangles(p.index as usize, &mut tris);
-            self.poly = Polygon { tris, n };
-            self.planes = [Plane::of(&tris[0]), Plane::of(&tris[n - 1])];
-            self.stamp = stamp;
+            *self = Prepared::of(tris, n, stamp);
         }
         self
     }
@@ -158,6 +166,22 @@ impl Prepared {
             Cell::of_triangle(&self.poly.tris[self.poly.n - 1], h),
         ]
     }
+}
+
+/// The CPU backend's step-5 decision for one polygon pair, each given as its triangles
+/// (`v_tris[..nv]`, `c_tris[..nc]`): with `h > 0`, does the candidate meet the viewing
+/// volume of `v` or intersect it exactly; with `h = 0`, do the closed polygons intersect?
+/// The GL backends confirm their hits with it, so their contacts are this backend's.
+pub fn polygon_meets(
+    v_tris: &[[P3; 3]; 2],
+    nv: usize,
+    c_tris: &[[P3; 3]; 2],
+    nc: usize,
+    h: f64,
+) -> bool {
+    let (v, c) = (Prepared::of(*v_tris, nv, 0), Prepared::of(*c_tris, nc, 0));
+    let cells = (h > 0.0).then(|| v.cells(h));
+    polygons_meet(&v, &c, cells.as_ref())
 }
 
 /// Step 5's test of a box-overlapping pair: candidate polygon `c` survives clipping against

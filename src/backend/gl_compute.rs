@@ -35,10 +35,9 @@ use std::collections::BTreeMap;
 use glow::HasContext;
 
 use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step, ROOT};
+use crate::backend::cpu::polygon_meets;
 use crate::backend::gl_select::effective_half_depth;
 use crate::error::{Error, ErrorKind, Result};
-use crate::geom::tritri::triangles_intersect;
-use crate::geom::volume::Cell;
 use crate::geom::Aabb;
 use crate::gpu::state::{StateGuard, Uses};
 use crate::gpu::{buffer, unavailable, Gl};
@@ -951,21 +950,14 @@ fn order_key(f: f32) -> u32 {
     }
 }
 
-/// The CPU backend's step-5 test at half depth `h`: with `h > 0`, does polygon `c` of `cm`
-/// meet the viewing volume of polygon `v` of `vm` (clipped in f64) or intersect it
-/// exactly; with `h = 0`, do the closed polygons intersect (exact predicates)?
+/// The CPU backend's step-5 test ([`polygon_meets`]) for polygon `v` of `vm` and polygon
+/// `c` of `cm` at half depth `h` (exact intersection at 0).
 fn confirmed(vm: &Mesh, v: usize, cm: &Mesh, c: usize, h: f64) -> bool {
     let mut vt = [[[0.0; 3]; 3]; 2];
     let nv = vm.triangles(v, &mut vt);
     let mut ct = [[[0.0; 3]; 3]; 2];
     let nc = cm.triangles(c, &mut ct);
-    (0..nv).any(|a| {
-        let cell = (h > 0.0).then(|| Cell::of_triangle(&vt[a], h));
-        (0..nc).any(|b| {
-            cell.as_ref().is_some_and(|cl| cl.meets_triangle(&ct[b]))
-                || triangles_intersect(&vt[a], &ct[b])
-        })
-    })
+    polygon_meets(&vt, nv, &ct, nc, h)
 }
 
 fn too_big() -> Error {

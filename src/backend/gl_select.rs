@@ -23,10 +23,9 @@
 use glow::HasContext;
 
 use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step};
+use crate::backend::cpu::polygon_meets;
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::predicates::collinear;
-use crate::geom::tritri::triangles_intersect;
-use crate::geom::volume::Cell;
 use crate::geom::{Aabb, P3};
 use crate::gpu::state::{clip_planes, StateGuard, Uses};
 use crate::gpu::{unavailable, Gl};
@@ -438,26 +437,14 @@ impl Selector for GlSelectSelector {
                             hits.truncate(w);
                             // Confirm on the CPU with the CPU backend's test at the epsilon
                             // asked for (the GL used at least the minimum depth, so it lost
-                            // nothing): the viewing volume in f64, or exact contact; exact
-                            // contact alone at epsilon 0.
-                            let hq = q.half_depth;
-                            let cells = (hq > 0.0)
-                                .then(|| [0, nv - 1].map(|a| Cell::of_triangle(&vt[a], hq)));
+                            // nothing): exact at epsilon 0.
                             let tris = &sc.tris;
                             let base = grp.candidates.start;
                             let mut w = first;
                             for r in first..hits.len() {
                                 let hit = hits[r];
                                 let (ct, nc, _) = &tris[(hit.candidate - base) as usize];
-                                let meets = (0..nv).any(|a| {
-                                    (0..*nc).any(|c| {
-                                        cells
-                                            .as_ref()
-                                            .is_some_and(|cl| cl[a].meets_triangle(&ct[c]))
-                                            || triangles_intersect(&vt[a], &ct[c])
-                                    })
-                                });
-                                if meets {
+                                if polygon_meets(&vt, nv, ct, *nc, q.half_depth) {
                                     hits[w] = hit;
                                     w += 1;
                                 }
