@@ -7,33 +7,14 @@ use std::time::Instant;
 use glcollide::obj::load;
 use glcollide::{Positions, Scene, SceneConfig};
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{bounds, wave};
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-fn bounds(p: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for v in p {
-        for k in 0..3 {
-            lo[k] = lo[k].min(v[k]);
-            hi[k] = hi[k].max(v[k]);
-        }
-    }
-    (lo, hi)
-}
-
-fn wave(rest: &[[f32; 3]], amp: f32, freq: f32, phase: f32) -> Vec<[f32; 3]> {
-    rest.iter()
-        .map(|p| {
-            [
-                p[0] + amp * (phase + freq * p[1]).sin(),
-                p[1] + amp * (phase * 1.3 + freq * p[2]).sin(),
-                p[2] + amp * (phase * 0.7 + freq * p[0]).sin(),
-            ]
-        })
-        .collect()
 }
 
 struct Case {

@@ -21,21 +21,14 @@ mod gl_support;
 
 use gl_support::{get_proc_address as gpa, Ctx, Profile};
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::{bounds, wave};
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
-}
-
-fn wave(rest: &[[f32; 3]], amp: f32, freq: f32, phase: f32) -> Vec<[f32; 3]> {
-    rest.iter()
-        .map(|p| {
-            [
-                p[0] + amp * (phase + freq * p[1]).sin(),
-                p[1] + amp * (phase * 1.3 + freq * p[2]).sin(),
-                p[2] + amp * (phase * 0.7 + freq * p[0]).sin(),
-            ]
-        })
-        .collect()
 }
 
 struct Case {
@@ -96,13 +89,7 @@ fn organs(frames: usize) -> Case {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
     let a = load(format!("{dir}/colon.obj")).unwrap();
     let b = load(format!("{dir}/small_intestine.obj")).unwrap();
-    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for p in &a.positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
+    let (lo, hi) = bounds(&a.positions);
     let e = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
     let frames = (0..frames)
         .map(|f| {
