@@ -9,10 +9,10 @@
 
 use std::time::Instant;
 
-use glcollide::backend::gl_compute::GlComputeSelector;
-use glcollide::backend::gl_select::GlSelectSelector;
-use glcollide::backend::Selector;
-use glcollide::gpu::Gl;
+use glcollide::internals::Gl;
+use glcollide::internals::GlComputeSelector;
+use glcollide::internals::GlSelectSelector;
+use glcollide::internals::Selector;
 use glcollide::obj::load;
 use glcollide::{Positions, Scene, SceneConfig};
 

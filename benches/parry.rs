@@ -203,8 +203,8 @@ fn glcol_bytes(m: &glcollide::Mesh) -> (usize, usize) {
         + m.polygon_slots().len() * 4
         + m.polygon_ids().len() * 4
         + (leaves + 1) * 8
-        + leaves * std::mem::size_of::<glcollide::geom::Aabb>();
-    let cache = m.polygon_count() * (std::mem::size_of::<glcollide::geom::Aabb>() + 4);
+        + leaves * std::mem::size_of::<glcollide::internals::Aabb>();
+    let cache = m.polygon_count() * (std::mem::size_of::<glcollide::internals::Aabb>() + 4);
     (structure, cache)
 }
 

@@ -1,35 +1,16 @@
-//! The collision query of paper section 2.2, steps 1 to 5, asked through a [`Selector`].
+//! The collision query of paper section 2.2, steps 1 to 5, asked of a backend: either the
+//! backend runs them all itself ([`Engine::Whole`]), or [`run`] sequences them, one batch per
+//! step ([`Engine::Steps`], the paper's way).
 //!
 //! Every polygon lies in exactly one leaf, so a polygon pair is asked about at most once
 //! in step 5: through the one (reference leaf, other leaf) pair that holds it.
 
-use crate::backend::{Batch, Group, Hit, Prim, QueryMeshes, Selector, Step, ROOT};
+use crate::backend::{
+    Batch, Engine, Group, Hit, Prim, QueryMeshes, Selector, Step, StepQuery, ROOT,
+};
 use crate::error::Result;
 
-/// One colliding polygon pair, in the caller's numbering.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Contact {
-    /// Id of the other mesh (first: contacts sort by mesh, then by the polygons).
-    pub other_mesh: u32,
-    /// Polygon index in the reference mesh.
-    pub reference_polygon: u32,
-    /// Polygon index in the other mesh.
-    pub other_polygon: u32,
-}
-
-/// How much each step asked and found in the last query.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct QueryStats {
-    /// Volume-candidate tests asked for, steps 1 to 5.
-    pub tests: [usize; 5],
-    /// Hits returned, steps 1 to 5.
-    pub hits: [usize; 5],
-    /// Time the backend took for each step, nanoseconds (a backend that runs the whole
-    /// query at once reports all of it under step 1).
-    pub nanos: [u64; 5],
-    /// GL read-backs (buffer reads or maps that wait for the GPU) the query made.
-    pub readbacks: u32,
-}
+pub use crate::backend::{Contact, QueryStats};
 
 /// Buffers reused from query to query.
 #[derive(Default)]
@@ -55,7 +36,8 @@ pub struct Workspace {
 }
 
 impl Workspace {
-    fn ask(&mut self, sel: &mut dyn Selector, q: &QueryMeshes<'_>, step: usize) -> Result<()> {
+    /// Asks `sel` the current batch as step `step` (0-based); hits in `self.hits`.
+    fn ask(&mut self, sel: &mut dyn StepQuery, q: &QueryMeshes<'_>, step: usize) -> Result<()> {
         self.hits.clear();
         self.stats.tests[step] = self.batch.tests();
         if !self.batch.groups.is_empty() {
@@ -68,8 +50,8 @@ impl Workspace {
     }
 }
 
-/// Runs the five steps for `q.meshes[0]` against the others; appends contacts to `out`
-/// (sorted, each pair once).
+/// Runs the five steps for `q.meshes[0]` against the others; `out` gets the contacts
+/// (sorted, each pair once) and `ws.stats` the counts. On an error `out` is left cleared.
 pub fn run(
     sel: &mut dyn Selector,
     q: &QueryMeshes<'_>,
@@ -78,22 +60,44 @@ pub fn run(
 ) -> Result<()> {
     out.clear();
     ws.stats = QueryStats::default();
-    if sel.run_query(q, out, &mut ws.stats)? {
-        out.sort_unstable();
-        out.dedup();
-        return Ok(());
+    let r = match sel.engine() {
+        Engine::Whole(w) => w.run_query(q, out, &mut ws.stats),
+        Engine::Steps(s) => run_steps(s, q, ws, out),
+    };
+    if r.is_err() {
+        out.clear();
     }
-    let h = q.half_depth;
-    let reference = q.meshes[0].1;
+    r?;
+    out.sort_unstable();
+    out.dedup();
+    Ok(())
+}
 
-    // Step 1: the other meshes' boxes inside the reference's root box.
+/// The five steps, one batch each, answered by `sel`; contacts appended to `out`.
+pub fn run_steps(
+    sel: &mut dyn StepQuery,
+    q: &QueryMeshes<'_>,
+    ws: &mut Workspace,
+    out: &mut Vec<Contact>,
+) -> Result<()> {
+    if step1(sel, q, ws)? && step2(sel, q, ws)? {
+        step3(sel, q, ws)?;
+        step4(sel, q, ws)?;
+        step5(sel, q, ws, out)?;
+    }
+    Ok(())
+}
+
+/// Step 1: the other meshes' boxes inside the reference's root box, into `ws.others`.
+fn step1(sel: &mut dyn StepQuery, q: &QueryMeshes<'_>, ws: &mut Workspace) -> Result<bool> {
+    let reference = q.meshes[0].1;
     ws.batch.reset(Step::BoxesInBoxes);
     ws.batch.volumes.push(Prim {
         mesh: 0,
         index: ROOT,
     });
     for (mi, (_, m)) in q.meshes.iter().enumerate().skip(1) {
-        if reference.root().overlaps(&m.root(), h) {
+        if reference.root().overlaps(&m.root(), q.half_depth) {
             ws.batch
                 .candidates
                 .extend((0..m.leaf_count() as u32).map(|index| Prim {
@@ -103,7 +107,7 @@ pub fn run(
         }
     }
     if ws.batch.candidates.is_empty() {
-        return Ok(());
+        return Ok(false);
     }
     ws.batch.groups.push(Group {
         volumes: 0..1,
@@ -117,11 +121,13 @@ pub fn run(
             .map(|h| ws.batch.candidates[h.candidate as usize]),
     );
     ws.others.sort_unstable_by_key(|p| (p.mesh, p.index));
-    if ws.others.is_empty() {
-        return Ok(());
-    }
+    Ok(!ws.others.is_empty())
+}
 
-    // Step 2: for each of those boxes, the reference's leaf boxes inside it.
+/// Step 2: for each of those boxes, the reference's leaf boxes inside it, into
+/// `ws.pairs` (other leaf, reference leaf).
+fn step2(sel: &mut dyn StepQuery, q: &QueryMeshes<'_>, ws: &mut Workspace) -> Result<bool> {
+    let reference = q.meshes[0].1;
     ws.batch.reset(Step::BoxesInBoxes);
     ws.batch.volumes.extend_from_slice(&ws.others);
     ws.batch
@@ -141,12 +147,14 @@ pub fn run(
     }));
     ws.pairs
         .sort_unstable_by_key(|(b, r)| (b.mesh, b.index, *r));
-    if ws.pairs.is_empty() {
-        return Ok(());
-    }
+    Ok(!ws.pairs.is_empty())
+}
 
-    // Step 3 (combined with step 2, as the paper suggests): for each other box B, the
-    // reference polygons of the leaves paired with B that lie inside B.
+/// Step 3 (combined with step 2, as the paper suggests): for each other box B, the
+/// reference polygons of the leaves paired with B that lie inside B, into `ws.ref_polys`
+/// (pair, reference polygon).
+fn step3(sel: &mut dyn StepQuery, q: &QueryMeshes<'_>, ws: &mut Workspace) -> Result<()> {
+    let reference = q.meshes[0].1;
     ws.batch.reset(Step::PolygonsInBoxes);
     ws.cand_pair.clear();
     let mut i = 0;
@@ -180,9 +188,12 @@ pub fn run(
             ws.batch.candidates[h.candidate as usize].index,
         )
     }));
+    Ok(())
+}
 
-    // Step 4: for each reference leaf R, the other meshes' polygons of the boxes paired
-    // with R that lie inside R.
+/// Step 4: for each reference leaf R, the other meshes' polygons of the boxes paired
+/// with R that lie inside R, into `ws.other_polys` (pair, other polygon).
+fn step4(sel: &mut dyn StepQuery, q: &QueryMeshes<'_>, ws: &mut Workspace) -> Result<()> {
     ws.by_ref_leaf.clear();
     ws.by_ref_leaf.extend(0..ws.pairs.len() as u32);
     let pairs = &ws.pairs;
@@ -223,9 +234,18 @@ pub fn run(
             ws.batch.candidates[h.candidate as usize].index,
         )
     }));
+    Ok(())
+}
 
-    // Step 5: for each leaf pair, every reference polygon found in step 3 becomes a viewing
-    // volume (section 2.3) and the other polygons found in step 4 are drawn into it.
+/// Step 5: for each leaf pair, every reference polygon found in step 3 becomes a viewing
+/// volume (section 2.3) and the other polygons found in step 4 are drawn into it.
+fn step5(
+    sel: &mut dyn StepQuery,
+    q: &QueryMeshes<'_>,
+    ws: &mut Workspace,
+    out: &mut Vec<Contact>,
+) -> Result<()> {
+    let reference = q.meshes[0].1;
     let n_pairs = ws.pairs.len();
     bucket(
         &ws.ref_polys,
@@ -274,8 +294,6 @@ pub fn run(
             other_polygon: m.poly_ids[c.index as usize],
         }
     }));
-    out.sort_unstable();
-    out.dedup();
     Ok(())
 }
 

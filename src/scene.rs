@@ -3,8 +3,7 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use crate::backend::cpu::CpuSelector;
-use crate::backend::{Backend, QueryMeshes, Selector};
+use crate::backend::{Backend, CpuSelector, QueryMeshes, Selector};
 use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::{Mesh, Positions};
 use crate::query::{self, Contact, QueryStats, Workspace};
@@ -50,6 +49,8 @@ pub struct Scene {
     selector: Box<dyn Selector>,
     workspace: Workspace,
     contacts: Vec<Contact>,
+    /// The next answer, built here and swapped into `contacts` on success.
+    scratch: Vec<Contact>,
 }
 
 impl Scene {
@@ -67,6 +68,7 @@ impl Scene {
             selector,
             workspace: Workspace::default(),
             contacts: Vec::new(),
+            scratch: Vec::new(),
         })
     }
 
@@ -189,20 +191,25 @@ impl Scene {
             meshes,
             half_depth: f64::from(self.config.epsilon) / 2.0,
         };
-        let mut out = Vec::new();
-        std::mem::swap(&mut out, &mut self.contacts);
+        // The answer goes to `scratch`, swapped in only on success: after a failed query
+        // `contacts()` still holds the last successful query's.
         let res = if q.meshes.len() > 1 {
-            query::run(self.selector.as_mut(), &q, &mut self.workspace, &mut out)
+            query::run(
+                self.selector.as_mut(),
+                &q,
+                &mut self.workspace,
+                &mut self.scratch,
+            )
         } else {
-            out.clear();
+            self.scratch.clear();
             Ok(())
         };
-        std::mem::swap(&mut out, &mut self.contacts);
         if res.is_err() {
             self.workspace.stats = QueryStats::default();
         }
         self.workspace.stats.readbacks = self.selector.take_readbacks();
         res?;
+        std::mem::swap(&mut self.scratch, &mut self.contacts);
         Ok(&self.contacts)
     }
 

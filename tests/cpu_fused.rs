@@ -1,22 +1,25 @@
-//! The CPU backend's fused query against its step-by-step path (each step through a batch,
-//! `CpuSelector::set_fused(false)`), on the real meshes of ../shared/meshes deforming over
+//! The CPU backend's query against the step-by-step path (each step through a batch,
+//! answered by the brute-force test adapter `BruteSelector`), on the real meshes of ../shared/meshes deforming over
 //! several frames: the same contacts and the same tests and hits per step, exact
 //! (epsilon 0) and with a viewing-volume depth, for the benchmarks' cases; and the heavy
 //! case's answers against brute force with the independent oracle.
 
 mod common;
 use common::*;
-use glcollide::backend::cpu::CpuSelector;
+use glcollide::internals::{BruteSelector, CpuSelector, Selector};
 use glcollide::{Contact, MeshId, Positions, QueryStats, Scene, SceneConfig};
 
 fn scene(epsilon: f32, leaf: u32, fused: bool) -> Scene {
-    let mut sel = CpuSelector::new();
-    sel.set_fused(fused);
+    let sel: Box<dyn Selector> = if fused {
+        Box::new(CpuSelector::new())
+    } else {
+        Box::new(BruteSelector)
+    };
     let config = SceneConfig {
         epsilon,
         max_polygons_per_box: leaf,
     };
-    Scene::with_selector(config, Box::new(sel)).unwrap()
+    Scene::with_selector(config, sel).unwrap()
 }
 
 /// Meshes moved frame by frame: `frames[f][m]` holds mesh `m`'s positions in frame `f`.

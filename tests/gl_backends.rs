@@ -269,7 +269,7 @@ fn epsilon_zero_is_exact_on_the_gl_backends() {
     // Bound to a host buffer: the minimum epsilon band.
     let (lo, hi) = common::bounds(&om.pos);
     let extent = (0..3).map(|k| (hi[k] - lo[k]) as f64).fold(0.0, f64::max);
-    let min_eps = extent * glcollide::backend::gl_select::MIN_RELATIVE_EPSILON;
+    let min_eps = extent * glcollide::internals::MIN_RELATIVE_EPSILON;
     let g = ctx.glow();
     let s = scene(GlcolBackend::GlCompute, 0.0, 0);
     let o_id = add_mesh(s, &om.pos, &om.idx, 3);

@@ -11,8 +11,8 @@ mod gl_support;
 
 use common::{place, shared_mesh, wave, TestMesh};
 use gl_support::{get_proc_address, Ctx, Profile};
-use glcollide::backend::gl_compute::GlComputeSelector;
-use glcollide::gpu::Gl;
+use glcollide::internals::Gl;
+use glcollide::internals::GlComputeSelector;
 use glcollide::{Contact, ErrorKind, MeshId, Positions, QueryStats, Scene, SceneConfig};
 
 /// How the GL_COMPUTE scene is set up.

@@ -392,7 +392,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
         unsafe {
             g.bind_buffer(
                 glow::COPY_WRITE_BUFFER,
-                glcollide::gpu::buffer(host_bufs[0]),
+                glcollide::internals::buffer(host_bufs[0]),
             );
         }
         let data: Vec<f32> = organ.pos.iter().flatten().copied().collect();
@@ -401,7 +401,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
             g.buffer_data_u8_slice(glow::COPY_WRITE_BUFFER, bytes, glow::STATIC_DRAW);
             g.bind_buffer(
                 glow::COPY_WRITE_BUFFER,
-                glcollide::gpu::buffer(host_bufs[5]),
+                glcollide::internals::buffer(host_bufs[5]),
             );
         }
         check("glcol_mesh_bind_gl_buffer", &mut || {

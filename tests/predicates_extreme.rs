@@ -3,8 +3,8 @@
 //! down to 2^-80, coordinates near f32::MAX, subnormals next to normal values, and integer
 //! grids with many exact zeros. A wrong certain sign would change exact answers (the exact
 //! triangle test takes them as given); hinted and unhinted triangle tests must agree.
-use glcollide::geom::predicates::orient3d;
-use glcollide::geom::tritri::{triangles_intersect, triangles_intersect_with, Plane};
+use glcollide::internals::predicates::orient3d;
+use glcollide::internals::tritri::{triangles_intersect, triangles_intersect_with, Plane};
 
 struct R(u64);
 impl R {

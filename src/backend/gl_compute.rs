@@ -34,15 +34,16 @@ use std::collections::BTreeMap;
 
 use glow::HasContext;
 
-use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step, ROOT};
-use crate::backend::cpu::polygon_meets;
-use crate::backend::gl_select::effective_half_depth;
+use super::{
+    Backend, Batch, Contact, Engine, Hit, QueryMeshes, QueryStats, Selector, Step, StepQuery,
+    WholeQuery, ROOT,
+};
 use crate::error::{Error, ErrorKind, Result};
+use crate::geom::polygon::polygon_meets;
 use crate::geom::Aabb;
 use crate::gpu::state::{StateGuard, Uses};
 use crate::gpu::{buffer, unavailable, Gl};
 use crate::mesh::Mesh;
-use crate::query::{Contact, QueryStats};
 
 const COMMON: &str = include_str!("../gpu/shaders/common.glsl");
 const GATHER: &str = include_str!("../gpu/shaders/gather.glsl");
@@ -648,7 +649,7 @@ impl GlComputeSelector {
         let h_base = (q.half_depth as f32).max(0.0);
         let mut header = [0u32; HEADER];
         header[12] = if refit.is_empty() {
-            ((effective_half_depth(q) * (1.0 + 1e-6)) as f32).to_bits()
+            ((q.gl_half_depth() * (1.0 + 1e-6)) as f32).to_bits()
         } else {
             h_base.to_bits()
         };
@@ -826,7 +827,7 @@ impl GlComputeSelector {
         batch: &Batch,
         hits: &mut Vec<Hit>,
     ) -> Result<()> {
-        let h = effective_half_depth(q);
+        let h = q.gl_half_depth();
         let slot = |mi: u32| &self.slots[&q.meshes[mi as usize].0];
         let box_bits = |b: Aabb| {
             [b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]].map(f32::to_bits)
@@ -967,6 +968,35 @@ fn too_big() -> Error {
     )
 }
 
+impl WholeQuery for GlComputeSelector {
+    fn run_query(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) -> Result<()> {
+        let gl: *const Gl = &self.gl;
+        // SAFETY: as in prepare.
+        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
+        let r = self.query_inner(q, out, stats);
+        let done = guard.finish();
+        r?;
+        done
+    }
+}
+
+impl StepQuery for GlComputeSelector {
+    fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
+        let gl: *const Gl = &self.gl;
+        // SAFETY: as in prepare.
+        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
+        let r = self.select_inner(q, batch, hits);
+        let done = guard.finish();
+        r?;
+        done
+    }
+}
+
 impl Selector for GlComputeSelector {
     fn backend(&self) -> Backend {
         Backend::GlCompute
@@ -982,32 +1012,12 @@ impl Selector for GlComputeSelector {
         done
     }
 
-    fn run_query(
-        &mut self,
-        q: &QueryMeshes<'_>,
-        out: &mut Vec<Contact>,
-        stats: &mut QueryStats,
-    ) -> Result<bool> {
-        if !self.whole_query {
-            return Ok(false);
+    fn engine(&mut self) -> Engine<'_> {
+        if self.whole_query {
+            Engine::Whole(self)
+        } else {
+            Engine::Steps(self)
         }
-        let gl: *const Gl = &self.gl;
-        // SAFETY: as in prepare.
-        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
-        let r = self.query_inner(q, out, stats);
-        let done = guard.finish();
-        r?;
-        done.map(|()| true)
-    }
-
-    fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
-        let gl: *const Gl = &self.gl;
-        // SAFETY: as in prepare.
-        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
-        let r = self.select_inner(q, batch, hits);
-        let done = guard.finish();
-        r?;
-        done
     }
 
     fn take_readbacks(&mut self) -> u32 {

@@ -22,9 +22,9 @@
 
 use glow::HasContext;
 
-use super::{Backend, Batch, Hit, QueryMeshes, Selector, Step};
-use crate::backend::cpu::polygon_meets;
+use super::{Backend, Batch, Engine, Hit, QueryMeshes, Selector, Step, StepQuery};
 use crate::error::{Error, ErrorKind, Result};
+use crate::geom::polygon::polygon_meets;
 use crate::geom::predicates::collinear;
 use crate::geom::{Aabb, P3};
 use crate::gpu::state::{clip_planes, StateGuard, Uses};
@@ -33,39 +33,6 @@ use crate::gpu::{unavailable, Gl};
 /// Volume padding relative to the local size of a volume and its candidates: 2^-16, about
 /// 256 float ulps, well above the rounding of the transform and of clipping.
 pub const PAD_REL: f64 = 1.0 / 65536.0;
-
-/// The smallest epsilon the GL backends use, relative to the largest extent of the meshes
-/// of a query: a smaller epsilon (0 included) is raised to `MIN_RELATIVE_EPSILON × extent`.
-pub const MIN_RELATIVE_EPSILON: f64 = 1.0 / 1_048_576.0;
-
-/// The GL's half-depth for a query: `max(epsilon / 2, MIN_RELATIVE_EPSILON × extent / 2)`,
-/// `extent` the largest extent of the query's meshes, or when every mesh is a single point,
-/// the largest coordinate magnitude (1 at the origin): the GL never gets a zero depth.
-pub fn effective_half_depth(q: &QueryMeshes<'_>) -> f64 {
-    let extent = q
-        .meshes
-        .iter()
-        .map(|(_, m)| f64::from(m.root().extent()))
-        .fold(0.0, f64::max);
-    let size = if extent > 0.0 {
-        extent
-    } else {
-        let far = q
-            .meshes
-            .iter()
-            .flat_map(|(_, m)| {
-                let r = m.root();
-                r.min.into_iter().chain(r.max)
-            })
-            .fold(0.0f64, |a, c| a.max(f64::from(c).abs()));
-        if far > 0.0 {
-            far
-        } else {
-            1.0
-        }
-    };
-    q.half_depth.max(MIN_RELATIVE_EPSILON * size / 2.0)
-}
 
 const SELECT: u32 = 0x1C02;
 const RENDER: u32 = 0x1C00;
@@ -300,6 +267,12 @@ impl Selector for GlSelectSelector {
         std::mem::take(&mut self.s.readbacks)
     }
 
+    fn engine(&mut self) -> Engine<'_> {
+        Engine::Steps(self)
+    }
+}
+
+impl StepQuery for GlSelectSelector {
     fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
         let guard = StateGuard::enter(
             &self.gl,
@@ -308,7 +281,7 @@ impl Selector for GlSelectSelector {
                 indexed_bindings: 0,
             },
         )?;
-        let h = effective_half_depth(q);
+        let h = q.gl_half_depth();
         let sc = &mut self.s;
         let gl = &self.gl;
         let g = &self.gl.gl;

@@ -1,26 +1,68 @@
-//! The one question every backend answers: "which of these primitives lie in this viewing
-//! volume?" (paper section 2.2), asked in batches so a GPU backend can answer a whole step
-//! in one dispatch.
+//! The backends: the one question every backend answers, "which of these primitives lie in
+//! this viewing volume?" (paper section 2.2), and the backends that answer it.
+//!
+//! A backend answers a query in one of two ways ([`Engine`]):
+//! - [`Engine::Steps`]: it answers each step's [`Batch`] and [`crate::query::run`] sequences
+//!   the five steps (GL_SELECT, the paper's method);
+//! - [`Engine::Whole`]: it runs all five steps itself (the CPU backend, leaf pair by leaf
+//!   pair; GL_COMPUTE, on the GPU with one read-back).
 //!
 //! A [`Batch`] is a list of groups; a group pairs a run of volumes with a run of candidates,
 //! and every volume of the group is asked about every candidate of the group. A hit names
 //! the volume and the candidate by their positions in the batch.
+//!
+//! [`create`] makes the backend a scene asks for. The module depends on `geom`, `mesh` and
+//! `gpu`, never on `query`, `scene` or `ffi`.
 
-pub mod cpu;
-pub mod gl_compute;
-pub mod gl_select;
+pub(crate) mod brute;
+mod cpu;
+mod gl_compute;
+mod gl_select;
+
+pub use cpu::CpuSelector;
+pub use gl_compute::GlComputeSelector;
+pub use gl_select::GlSelectSelector;
 
 use std::collections::BTreeMap;
+use std::ffi::c_void;
 
 use crate::error::{Error, ErrorKind, Result};
+use crate::gpu::{unavailable, GetProcAddress, Gl};
 use crate::mesh::Mesh;
-use crate::query::{Contact, QueryStats};
+
+/// One colliding polygon pair, in the caller's numbering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Contact {
+    /// Id of the other mesh (first: contacts sort by mesh, then by the polygons).
+    pub other_mesh: u32,
+    /// Polygon index in the reference mesh.
+    pub reference_polygon: u32,
+    /// Polygon index in the other mesh.
+    pub other_polygon: u32,
+}
+
+/// How much each step asked and found in the last query.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct QueryStats {
+    /// Volume-candidate tests asked for, steps 1 to 5.
+    pub tests: [usize; 5],
+    /// Hits returned, steps 1 to 5.
+    pub hits: [usize; 5],
+    /// Time the backend took for each step, nanoseconds (a backend that runs the whole
+    /// query at once may report all of it under step 1).
+    pub nanos: [u64; 5],
+    /// GL read-backs (buffer reads or maps that wait for the GPU) the query made.
+    pub readbacks: u32,
+}
 
 /// The backends of the C API.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Backend {
+    /// Exact predicates and `f64` clipping on the CPU.
     Cpu,
+    /// The GL's selection mode, as in the paper.
     GlSelect,
+    /// GL compute dispatches.
     GlCompute,
 }
 
@@ -117,6 +159,12 @@ impl QueryMeshes<'_> {
         self.meshes[p.mesh as usize].1
     }
 
+    /// The half-depth the GL backends use for this query (epsilon raised to their minimum,
+    /// [`crate::gpu::min_half_depth`]).
+    pub fn gl_half_depth(&self) -> f64 {
+        crate::gpu::min_half_depth(self.half_depth, self.meshes.iter().map(|(_, m)| m.root()))
+    }
+
     /// The box a box primitive stands for.
     #[inline]
     pub fn boxed(&self, p: Prim) -> crate::geom::Aabb {
@@ -129,35 +177,53 @@ impl QueryMeshes<'_> {
     }
 }
 
-/// A way of answering batches. Hits may come in any order; each (volume, candidate) pair
-/// at most once.
-pub trait Selector: Send {
-    fn backend(&self) -> Backend;
+/// How a backend answers a query.
+pub enum Engine<'a> {
+    /// It answers each step's batch; [`crate::query::run`] sequences the steps.
+    Steps(&'a mut dyn StepQuery),
+    /// It runs all five steps itself.
+    Whole(&'a mut dyn WholeQuery),
+}
+
+/// A backend that answers one step's batch at a time. Hits may come in any order; each
+/// (volume, candidate) pair at most once.
+pub trait StepQuery {
+    /// Appends to `hits` every (volume, candidate) of `batch` where the candidate lies in
+    /// the volume.
     fn select(
         &mut self,
         meshes: &QueryMeshes<'_>,
         batch: &Batch,
         hits: &mut Vec<Hit>,
     ) -> Result<()>;
+}
+
+/// A backend that runs the five steps itself (the same tests, so the same answer and the
+/// same per-step counts as the step-by-step path).
+pub trait WholeQuery {
+    /// Appends the contacts of `q.meshes[0]` against the others to `out` (each pair once,
+    /// any order; the caller sorts them) and fills `stats`.
+    fn run_query(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) -> Result<()>;
+}
+
+/// A backend: how it answers queries, plus what it must hear about the scene's meshes.
+pub trait Selector: Send {
+    /// Which backend this is.
+    fn backend(&self) -> Backend;
+
+    /// How this backend answers a query.
+    fn engine(&mut self) -> Engine<'_>;
 
     /// Called before each query with every mesh of the scene: a GPU backend refreshes what
     /// it holds (meshes whose positions live in a host buffer get their boxes refitted and
     /// written back here).
     fn prepare(&mut self, _meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
         Ok(())
-    }
-
-    /// Runs all five steps itself (a GPU backend that keeps every step's output on the GPU
-    /// and reads back only the answer): appends the contacts to `out` (any order; the caller
-    /// sorts them) and fills `stats`. `Ok(false)`: not supported, ask step by step through
-    /// [`Selector::select`].
-    fn run_query(
-        &mut self,
-        _q: &QueryMeshes<'_>,
-        _out: &mut Vec<Contact>,
-        _stats: &mut QueryStats,
-    ) -> Result<bool> {
-        Ok(false)
     }
 
     /// GL read-backs (reads that wait for the GL) since the last call.
@@ -193,4 +259,61 @@ pub trait Selector: Send {
     /// Deletes the backend's GL objects (the scene's context must be current). Called once,
     /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
     fn release(&mut self) {}
+}
+
+/// The backend asked for at scene creation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Request {
+    /// The best available: see [`create`].
+    Auto,
+    /// The CPU backend (needs no GL).
+    Cpu,
+    /// GL_SELECT.
+    GlSelect,
+    /// GL_COMPUTE.
+    GlCompute,
+}
+
+/// Makes the backend a scene asks for, loading GL through `gpa` for the current context.
+/// AUTO (as API.md says): the CPU when there is no loader, no usable context or a software
+/// renderer (llvmpipe, softpipe, SwiftShader); GL_COMPUTE on a hardware GL 4.3+ context;
+/// the CPU otherwise.
+///
+/// # Safety
+/// `gpa`, when given, must be a GL loader for the calling thread's current context, called
+/// with `user_data`.
+pub unsafe fn create(
+    req: Request,
+    gpa: Option<GetProcAddress>,
+    user_data: *mut c_void,
+) -> Result<Box<dyn Selector>> {
+    let name = match req {
+        Request::Cpu => return Ok(Box::new(CpuSelector::new())),
+        Request::Auto => "GLCOL_BACKEND_AUTO",
+        Request::GlSelect => "GLCOL_BACKEND_GL_SELECT",
+        Request::GlCompute => "GLCOL_BACKEND_GL_COMPUTE",
+    };
+    let Some(gpa) = gpa else {
+        if req == Request::Auto {
+            return Ok(Box::new(CpuSelector::new()));
+        }
+        return Err(unavailable(format!(
+            "{name} needs get_proc_address (it is NULL)"
+        )));
+    };
+    // SAFETY: the caller's contract: `gpa` loads for the current context with `user_data`.
+    let gl = match unsafe { Gl::load(gpa, user_data) } {
+        Ok(gl) => gl,
+        Err(_) if req == Request::Auto => return Ok(Box::new(CpuSelector::new())),
+        Err(e) => return Err(Error::new(e.kind, format!("{name}: {}", e.message))),
+    };
+    match req {
+        Request::Auto if gl.info.software() || !gl.info.compute => Ok(Box::new(CpuSelector::new())),
+        Request::Auto => match GlComputeSelector::new(gl) {
+            Ok(s) => Ok(Box::new(s)),
+            Err(_) => Ok(Box::new(CpuSelector::new())),
+        },
+        Request::GlSelect => Ok(Box::new(GlSelectSelector::new(gl)?)),
+        _ => Ok(Box::new(GlComputeSelector::new(gl)?)),
+    }
 }

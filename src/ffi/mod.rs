@@ -12,9 +12,7 @@ use std::ffi::{c_char, CStr};
 use guard::{guard, guard_or, invalid, non_null, Fail, FfiResult};
 pub use types::*;
 
-use crate::backend::cpu::CpuSelector;
-use crate::backend::{Backend, Selector};
-use crate::gpu::Request;
+use crate::backend::{Backend, Request};
 use crate::mesh::Positions;
 use crate::scene::{Scene, SceneConfig};
 
@@ -199,10 +197,10 @@ pub unsafe extern "C" fn glcol_scene_create(
         )?;
         let d = desc.read();
         let request = match d.backend {
-            0 => Some(Request::Auto),
-            1 => None,
-            2 => Some(Request::GlSelect),
-            3 => Some(Request::GlCompute),
+            0 => Request::Auto,
+            1 => Request::Cpu,
+            2 => Request::GlSelect,
+            3 => Request::GlCompute,
             v => {
                 return Err(invalid(format!(
                     "backend is {v}; it must be a GlcolBackend value (0 to 3)"
@@ -214,10 +212,7 @@ pub unsafe extern "C" fn glcol_scene_create(
             max_polygons_per_box: d.max_polygons_per_box,
         };
         config.validate()?;
-        let selector = match request {
-            None => Box::new(CpuSelector::new()) as Box<dyn Selector>,
-            Some(r) => crate::gpu::selector_for(r, d.get_proc_address, d.user_data)?,
-        };
+        let selector = crate::backend::create(request, d.get_proc_address, d.user_data)?;
         let scene = Scene::with_selector(config, selector)?;
         out_scene.write(Box::into_raw(Box::new(GlcolScene {
             scene,

@@ -1,6 +1,8 @@
 //! Geometry: boxes, exact predicates, the exact triangle test and viewing volumes.
 
+pub mod polygon;
 pub mod predicates;
+pub mod sweep;
 pub mod tritri;
 pub mod volume;
 
@@ -63,6 +65,33 @@ impl Aabb {
         })
     }
 
+    /// Do the closed boxes overlap? Exact (plain `f32` comparisons, all six combined with
+    /// `&` so the test has no branches).
+    #[inline]
+    pub fn meets(&self, o: &Aabb) -> bool {
+        (o.max[0] >= self.min[0])
+            & (o.min[0] <= self.max[0])
+            & (o.max[1] >= self.min[1])
+            & (o.min[1] <= self.max[1])
+            & (o.max[2] >= self.min[2])
+            & (o.min[2] <= self.max[2])
+    }
+
+    /// The box grown by `h` on every side with its bounds rounded outward to `f32`. An
+    /// `f32` box [`meets`](Aabb::meets) it exactly when `self.overlaps(box, h)`: a float is
+    /// at least a real number exactly when it is at least the smallest float above that
+    /// number.
+    #[inline]
+    pub fn grown(&self, h: f64) -> Aabb {
+        if h == 0.0 {
+            return *self;
+        }
+        Aabb {
+            min: self.min.map(|x| f32_up(f64::from(x) - h)),
+            max: self.max.map(|x| f32_down(f64::from(x) + h)),
+        }
+    }
+
     /// Largest extent along any axis (0 for the empty box).
     pub fn extent(&self) -> f32 {
         (0..3)
@@ -72,6 +101,41 @@ impl Aabb {
 
     pub fn is_empty(&self) -> bool {
         self.min[0] > self.max[0]
+    }
+}
+
+/// The smallest `f32` at or above `x` (not NaN); `+inf` above `f32::MAX`.
+#[inline]
+pub fn f32_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) >= x {
+        f
+    } else if f == 0.0 {
+        f32::from_bits(1)
+    } else if f > 0.0 {
+        f32::from_bits(f.to_bits() + 1)
+    } else {
+        // Negative (`-inf` included): one step towards zero.
+        f32::from_bits(f.to_bits() - 1)
+    }
+}
+
+/// The largest `f32` at or below `x` (not NaN); `-inf` below `-f32::MAX`.
+#[inline]
+pub fn f32_down(x: f64) -> f32 {
+    -f32_up(-x)
+}
+
+/// An order-preserving map of `f32` to `u32` (not NaN): `a < b` exactly when
+/// `sortable_key(a) < sortable_key(b)` (and `-0.0` sorts just before `0.0`), so sorting the
+/// keys sorts the floats with integer comparisons.
+#[inline]
+pub fn sortable_key(x: f32) -> u32 {
+    let u = x.to_bits();
+    if u >> 31 == 1 {
+        !u
+    } else {
+        u | 1 << 31
     }
 }
 
@@ -119,5 +183,67 @@ mod tests {
         };
         assert!(!a.overlaps(&b, 0.0));
         assert!(a.overlaps(&b, f64::from(next - x)));
+    }
+
+    #[test]
+    fn outward_rounding_is_tight() {
+        // The float just below a finite `f32` (as f64).
+        let below = |f: f32| {
+            let b = f.to_bits();
+            f64::from(if f == 0.0 {
+                -f32::from_bits(1)
+            } else if f > 0.0 {
+                f32::from_bits(b - 1)
+            } else {
+                f32::from_bits(b + 1)
+            })
+        };
+        for x in [
+            0.0, 1.0, -1.0, 0.1, -0.1, 1e-45, -1e-45, 1e-50, 3e38, -3e38, -1e300,
+        ] {
+            let (u, d) = (f32_up(x), f32_down(-x));
+            assert!(f64::from(u) >= x && below(u) < x, "{x}");
+            assert_eq!(d, -u, "{x}");
+        }
+        assert_eq!(f32_up(1e300), f32::INFINITY);
+        assert_eq!(f32_up(-1e300), -f32::MAX);
+        assert_eq!(f32_down(1e300), f32::MAX);
+        assert_eq!(
+            f32_up(f64::from(f32::MIN_POSITIVE) / 4.0),
+            f32::MIN_POSITIVE / 4.0
+        );
+        assert_eq!(f32_up(1e-50), f32::from_bits(1));
+        assert_eq!(f32_up(-1e-50), -0.0);
+    }
+
+    #[test]
+    fn grown_boxes_keep_what_the_f64_test_keeps() {
+        // Boxes at distances around h, near f32 ties: the f32 test against the rounded-out
+        // box agrees with Aabb-style f64 arithmetic on every one.
+        let mut s = 99u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for h in [0.0, 1e-7, 0.3, 0.5, 1.0 / 3.0] {
+            for _ in 0..20000 {
+                let v = Aabb {
+                    min: [rnd(), rnd(), rnd()],
+                    max: [1.0 + rnd(), 1.0 + rnd(), 1.0 + rnd()],
+                };
+                let o = rnd() * 0.001;
+                let c = Aabb {
+                    min: v.max.map(|x| x + (h as f32) - 0.0005 + o),
+                    max: v.max.map(|x| x + 2.0 + o),
+                };
+                let f64_test = (0..3).all(|k| {
+                    f64::from(c.max[k]) >= f64::from(v.min[k]) - h
+                        && f64::from(c.min[k]) <= f64::from(v.max[k]) + h
+                });
+                assert_eq!(v.grown(h).meets(&c), f64_test, "h = {h}");
+            }
+        }
     }
 }

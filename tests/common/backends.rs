@@ -7,8 +7,8 @@
 //! `GLCOL_BACKEND_GL_*` and a loader for a current headless context); every suite that
 //! loops over [`factories`] then covers it.
 
-use glcollide::backend::cpu::CpuSelector;
 use glcollide::ffi::*;
+use glcollide::internals::BruteSelector;
 use glcollide::{Positions, Scene, SceneConfig};
 
 use super::TestMesh;
@@ -112,10 +112,10 @@ impl SafeScene {
         )
     }
 
-    /// The CPU backend answering each step through a batch instead of its fused query.
+    /// The five steps asked one batch at a time of the brute-force test adapter
+    /// (`BruteSelector`), not the CPU backend's own whole query.
     pub fn step_by_step(epsilon: f32, leaf: u32) -> SafeScene {
-        let mut sel = CpuSelector::new();
-        sel.set_fused(false);
+        let sel = BruteSelector;
         let config = SceneConfig {
             epsilon,
             max_polygons_per_box: leaf,

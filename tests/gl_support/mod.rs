@@ -89,8 +89,8 @@ impl Ctx {
     }
 
     /// The fixed-function entry points (compatibility contexts).
-    pub fn compat(&self) -> glcollide::gpu::compat::Gl {
-        glcollide::gpu::compat::Gl::load_with(|name| {
+    pub fn compat(&self) -> glcollide::internals::compat::Gl {
+        glcollide::internals::compat::Gl::load_with(|name| {
             let c = std::ffi::CString::new(name).unwrap();
             unsafe { get_proc_address(std::ptr::null_mut(), c.as_ptr()) as *const c_void }
         })

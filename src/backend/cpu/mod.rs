@@ -1,0 +1,137 @@
+//! The CPU backend: the five steps run leaf pair by leaf pair ([`steps`]), selection
+//! semantics computed exactly or in `f64`.
+//!
+//! Box volumes (steps 1-4) keep a candidate when its box meets the volume grown by `h`
+//! (closed, exact comparisons): for polygons that is a superset of what clipping keeps,
+//! which only costs step 5 some work. Polygon volumes (step 5) give the final answer
+//! ([`Prepared::meets`](crate::geom::polygon::Prepared::meets)):
+//! - `h = 0`: the closed polygons intersect, decided by exact predicates;
+//! - `h > 0`: the candidate survives clipping against the reference polygon's volume in
+//!   `f64` in the volume's own frame, or intersects the polygon exactly (so rounding in the
+//!   clipper can never lose a true intersection).
+//!
+//! Polygon boxes are cached per mesh ([`BoxCache`]) and computed a leaf at a time, once per
+//! frame however many leaf pairs ask about them.
+
+mod lanes;
+mod steps;
+
+use super::{Backend, Contact, Engine, QueryMeshes, QueryStats, Selector, WholeQuery};
+use crate::error::Result;
+use crate::mesh::Mesh;
+use lanes::Lanes;
+
+/// Polygon boxes of one mesh, computed a whole leaf at a time on first use and valid while
+/// the mesh's positions do not change (its generation).
+#[derive(Default)]
+struct BoxCache {
+    id: u32,
+    generation: u64,
+    /// `leaf_stamp[l] == current` marks the boxes of all of leaf `l`'s polygons valid.
+    leaf_stamp: Vec<u32>,
+    current: u32,
+    boxes: Lanes,
+}
+
+impl BoxCache {
+    fn revalidate(&mut self, id: u32, m: &Mesh) {
+        let n = m.polygon_count();
+        if self.id != id
+            || self.boxes.len() != n
+            || self.leaf_stamp.len() != m.leaf_count()
+            || self.current == u32::MAX
+        {
+            self.leaf_stamp.clear();
+            self.leaf_stamp.resize(m.leaf_count(), 0);
+            self.boxes.resize(n);
+            self.current = 1;
+        } else if self.generation != m.generation {
+            self.current += 1;
+        }
+        self.id = id;
+        self.generation = m.generation;
+    }
+
+    /// Makes the boxes of leaf `l`'s polygons valid; returns their range in `boxes`.
+    #[inline]
+    fn leaf(&mut self, m: &Mesh, l: usize) -> std::ops::Range<usize> {
+        let r = m.leaves.polys(l);
+        if self.leaf_stamp[l] != self.current {
+            self.boxes.fit_polygons(m, r.clone());
+            self.leaf_stamp[l] = self.current;
+        }
+        r
+    }
+}
+
+/// The CPU backend. Holds scratch space and the polygon-box caches.
+#[derive(Default)]
+pub struct CpuSelector {
+    scratch: steps::Scratch,
+    caches: Vec<BoxCache>,
+    /// Query mesh slot -> index in `caches`.
+    slot_cache: Vec<usize>,
+}
+
+impl CpuSelector {
+    /// A CPU backend with empty caches.
+    pub fn new() -> CpuSelector {
+        CpuSelector::default()
+    }
+
+    /// Maps the query's meshes to their caches (made or revalidated), dropping the caches
+    /// of meshes no longer in the query.
+    fn sync_caches(&mut self, q: &QueryMeshes<'_>) {
+        self.caches
+            .retain(|c| q.meshes.iter().any(|(id, _)| *id == c.id));
+        self.slot_cache.clear();
+        for &(id, m) in &q.meshes {
+            let i = match self.caches.iter().position(|c| c.id == id) {
+                Some(i) => i,
+                None => {
+                    self.caches.push(BoxCache::default());
+                    self.caches.len() - 1
+                }
+            };
+            self.caches[i].revalidate(id, m);
+            self.slot_cache.push(i);
+        }
+    }
+}
+
+impl std::fmt::Debug for CpuSelector {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("CpuSelector")
+    }
+}
+
+impl Selector for CpuSelector {
+    fn backend(&self) -> Backend {
+        Backend::Cpu
+    }
+
+    fn engine(&mut self) -> Engine<'_> {
+        Engine::Whole(self)
+    }
+}
+
+impl WholeQuery for CpuSelector {
+    fn run_query(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) -> Result<()> {
+        self.sync_caches(q);
+        let mut run = steps::Run {
+            q,
+            h: q.half_depth,
+            s: &mut self.scratch,
+            caches: &mut self.caches,
+            slot_cache: &self.slot_cache,
+            stats,
+        };
+        run.all(out);
+        Ok(())
+    }
+}

@@ -1,0 +1,294 @@
+//! The CPU backend's five steps ([`WholeQuery::run_query`](crate::backend::WholeQuery)),
+//! with the tests of [`crate::query::run`] (so the same answer and the same per-step counts
+//! as the step-by-step path), run leaf pair by leaf pair over scratch buffers the selector
+//! keeps: no batches, no allocation once the buffers have grown.
+//!
+//! Box tests compare `f32` boxes with volumes grown by `h` and rounded outward to `f32`
+//! ([`Aabb::grown`]), which keeps exactly the pairs an `f64` comparison keeps. Polygon
+//! boxes are computed a leaf at a time into [`Lanes`] and tested eight at a time: steps 3
+//! and 4 test a leaf's polygons against the other leaf's box, step 5 tests every other
+//! polygon's box against all the reference polygons' (a sort-and-sweep only for very large
+//! leaf pairs, where it is cheaper than testing every pair). The narrow test of step 5 is
+//! [`Prepared::meets`].
+
+use std::time::Instant;
+
+use super::lanes::Lanes;
+use super::BoxCache;
+use crate::backend::{Contact, QueryMeshes, QueryStats};
+use crate::geom::polygon::Prepared;
+use crate::geom::sweep::Sweep;
+use crate::geom::volume::Cell;
+use crate::geom::Aabb;
+use crate::mesh::Mesh;
+
+/// A step-5 leaf pair with more than this many polygon pairs is swept like step 2, not
+/// tested pair by pair (vectorised).
+const SWEEP_STEP5_ABOVE: usize = 1 << 16;
+
+/// Buffers of the query, reused from query to query.
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// Step 1: (query mesh, leaf) of the other meshes' leaves that meet the reference root.
+    others: Vec<(u32, u32)>,
+    /// Their boxes grown by `h` (the volumes of steps 2 and 3).
+    grown: Vec<Aabb>,
+    /// Step 2: (position in `others`, reference leaf), sorted.
+    pairs: Vec<(u32, u32)>,
+    /// Steps 3 and 4, per pair `i`: the reference polygons inside the other leaf's box,
+    /// `refs[ref_start[i]..ref_start[i + 1]]`, and the other polygons inside the reference
+    /// leaf's box.
+    ref_start: Vec<u32>,
+    refs: Vec<u32>,
+    other_start: Vec<u32>,
+    other_polys: Vec<u32>,
+    /// Step 5, one pair at a time: the reference polygons' boxes grown by `h`, the other
+    /// polygons' boxes, and the box pairs that meet.
+    vboxes: Vec<Aabb>,
+    cboxes: Vec<Aabb>,
+    box_pairs: Vec<(u32, u32)>,
+    /// Step 5: the reference polygons' grown boxes in lanes; box-test bit masks (steps 3
+    /// to 5).
+    lanes: Lanes,
+    masks: Vec<u32>,
+    sweep: Sweep,
+    /// Step 5: the polygons of the current leaf pair, prepared on first use.
+    vprep: Vec<Stamped>,
+    cprep: Vec<Stamped>,
+    /// Step 5 (`h > 0`): the reference polygons' viewing volumes, made on first use.
+    cells: Vec<Option<[Cell; 2]>>,
+    /// Leaf pairs prepared so far (64 bits: never wraps, so a stale entry never looks
+    /// fresh).
+    stamp: u64,
+}
+
+/// A polygon prepared for the current step-5 leaf pair, valid while `stamp` is the pair's.
+#[derive(Clone, Copy, Default)]
+struct Stamped {
+    stamp: u64,
+    p: Prepared,
+}
+
+impl Stamped {
+    #[inline]
+    fn get(&mut self, stamp: u64, m: &Mesh, poly: u32) -> &Prepared {
+        if self.stamp != stamp {
+            let mut tris = [[[0.0; 3]; 3]; 2];
+            let n = m.triangles(poly as usize, &mut tris);
+            self.p = Prepared::of(tris, n);
+            self.stamp = stamp;
+        }
+        &self.p
+    }
+}
+
+/// One query: the meshes, the scratch and the caches it works in, the counts it keeps.
+pub(super) struct Run<'a, 'q> {
+    pub q: &'a QueryMeshes<'q>,
+    /// Half the viewing-volume depth.
+    pub h: f64,
+    pub s: &'a mut Scratch,
+    pub caches: &'a mut [BoxCache],
+    /// Query mesh slot -> index in `caches`.
+    pub slot_cache: &'a [usize],
+    pub stats: &'a mut QueryStats,
+}
+
+impl Run<'_, '_> {
+    /// The five steps for `q.meshes[0]` against the others: contacts appended to `out`
+    /// (each pair once, in no particular order), counts and times in `stats`.
+    pub fn all(&mut self, out: &mut Vec<Contact>) {
+        let _ = self.timed(0, Run::step1)
+            && self.timed(1, Run::step2)
+            && self.timed(2, Run::step3)
+            && self.timed(3, Run::step4)
+            && self.timed(4, |r| r.step5(out));
+    }
+
+    /// Runs `step` and records its time; whether the query goes on.
+    fn timed(&mut self, i: usize, step: impl FnOnce(&mut Self) -> bool) -> bool {
+        let t = Instant::now();
+        let go_on = step(self);
+        self.stats.nanos[i] = t.elapsed().as_nanos() as u64;
+        go_on
+    }
+
+    /// Step 1: the other meshes' leaves inside the reference's root box.
+    fn step1(&mut self) -> bool {
+        let (q, s, h) = (self.q, &mut *self.s, self.h);
+        let reference = q.meshes[0].1;
+        let root = reference.root().grown(h);
+        s.others.clear();
+        for (mi, (_, m)) in q.meshes.iter().enumerate().skip(1) {
+            if reference.root().overlaps(&m.root(), h) {
+                self.stats.tests[0] += m.leaf_count();
+                s.others.extend(
+                    m.leaves
+                        .boxes
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, b)| root.meets(b))
+                        .map(|(l, _)| (mi as u32, l as u32)),
+                );
+            }
+        }
+        self.stats.hits[0] = s.others.len();
+        !s.others.is_empty()
+    }
+
+    /// Step 2: for each of those leaves, the reference leaves inside its box.
+    fn step2(&mut self) -> bool {
+        let (q, s, h) = (self.q, &mut *self.s, self.h);
+        let reference = q.meshes[0].1;
+        s.grown.clear();
+        s.grown.extend(
+            s.others
+                .iter()
+                .map(|&(mi, l)| q.meshes[mi as usize].1.leaves.boxes[l as usize].grown(h)),
+        );
+        self.stats.tests[1] = s.others.len() * reference.leaf_count();
+        s.pairs.clear();
+        s.sweep
+            .pairs(&s.grown, &reference.leaves.boxes, &mut s.pairs);
+        s.pairs.sort_unstable();
+        self.stats.hits[1] = s.pairs.len();
+        !s.pairs.is_empty()
+    }
+
+    /// Step 3: per pair, the reference leaf's polygons inside the other leaf's box.
+    fn step3(&mut self) -> bool {
+        let reference = self.q.meshes[0].1;
+        let s = &mut *self.s;
+        let rc = &mut self.caches[self.slot_cache[0]];
+        s.ref_start.clear();
+        s.ref_start.push(0);
+        s.refs.clear();
+        for &(o, r) in &s.pairs {
+            let vol = s.grown[o as usize];
+            let polys = rc.leaf(reference, r as usize);
+            self.stats.tests[2] += polys.len();
+            rc.boxes.select(polys, &vol, &mut s.masks, &mut s.refs);
+            s.ref_start.push(s.refs.len() as u32);
+        }
+        self.stats.hits[2] = s.refs.len();
+        true
+    }
+
+    /// Step 4: per pair, the other leaf's polygons inside the reference leaf's box.
+    fn step4(&mut self) -> bool {
+        let (q, h) = (self.q, self.h);
+        let reference = q.meshes[0].1;
+        let s = &mut *self.s;
+        s.other_start.clear();
+        s.other_start.push(0);
+        s.other_polys.clear();
+        for &(o, r) in &s.pairs {
+            let (mi, l) = s.others[o as usize];
+            let vol = reference.leaves.boxes[r as usize].grown(h);
+            let oc = &mut self.caches[self.slot_cache[mi as usize]];
+            let polys = oc.leaf(q.meshes[mi as usize].1, l as usize);
+            self.stats.tests[3] += polys.len();
+            oc.boxes
+                .select(polys, &vol, &mut s.masks, &mut s.other_polys);
+            s.other_start.push(s.other_polys.len() as u32);
+        }
+        self.stats.hits[3] = s.other_polys.len();
+        true
+    }
+
+    /// Step 5: per pair, each reference polygon's viewing volume against the other
+    /// polygons: box pairs first, then the narrow test.
+    fn step5(&mut self, out: &mut Vec<Contact>) -> bool {
+        let found = out.len();
+        for i in 0..self.s.pairs.len() {
+            let s = &*self.s;
+            let (refs, others) = (
+                s.ref_start[i] as usize..s.ref_start[i + 1] as usize,
+                s.other_start[i] as usize..s.other_start[i + 1] as usize,
+            );
+            if refs.is_empty() || others.is_empty() {
+                continue;
+            }
+            self.stats.tests[4] += refs.len() * others.len();
+            let mi = s.others[s.pairs[i].0 as usize].0;
+            self.box_pairs(refs.clone(), others.clone(), mi);
+            if !self.s.box_pairs.is_empty() {
+                self.narrow(refs, others, mi, out);
+            }
+        }
+        self.stats.hits[4] = out.len() - found;
+        true
+    }
+
+    /// Step 5 of one leaf pair, first part: the (reference, other) polygon pairs whose
+    /// boxes meet (the reference's grown by `h`) into `box_pairs`, as positions in `refs`
+    /// and `others`.
+    fn box_pairs(&mut self, refs: std::ops::Range<usize>, others: std::ops::Range<usize>, mi: u32) {
+        let h = self.h;
+        let s = &mut *self.s;
+        let (refs, others) = (&s.refs[refs], &s.other_polys[others]);
+        let rc = &self.caches[self.slot_cache[0]];
+        let oc = &self.caches[self.slot_cache[mi as usize]];
+        s.box_pairs.clear();
+        s.cboxes.clear();
+        s.cboxes
+            .extend(others.iter().map(|&p| oc.boxes.get(p as usize)));
+        if refs.len() * others.len() > SWEEP_STEP5_ABOVE {
+            s.vboxes.clear();
+            s.vboxes
+                .extend(refs.iter().map(|&p| rc.boxes.get(p as usize).grown(h)));
+            s.sweep.pairs(&s.vboxes, &s.cboxes, &mut s.box_pairs);
+        } else {
+            // The reference polygons' grown boxes in lanes, each other polygon's box
+            // against all of them, eight at a time.
+            s.lanes.resize(refs.len());
+            for (v, &p) in refs.iter().enumerate() {
+                s.lanes.set(v, &rc.boxes.get(p as usize).grown(h));
+            }
+            let pairs = &mut s.box_pairs;
+            s.lanes
+                .each_pair(0..refs.len(), &s.cboxes, &mut s.masks, |v, c| {
+                    pairs.push((v, c))
+                });
+        }
+    }
+
+    /// Step 5 of one leaf pair, second part: the narrow test on `box_pairs`, each polygon
+    /// prepared (widened, its planes and viewing volumes made) once.
+    fn narrow(
+        &mut self,
+        refs: std::ops::Range<usize>,
+        others: std::ops::Range<usize>,
+        mi: u32,
+        out: &mut Vec<Contact>,
+    ) {
+        let (q, h) = (self.q, self.h);
+        let reference = q.meshes[0].1;
+        let (id, m) = q.meshes[mi as usize];
+        let s = &mut *self.s;
+        let (refs, others) = (&s.refs[refs], &s.other_polys[others]);
+        s.stamp += 1;
+        let stamp = s.stamp;
+        if s.vprep.len() < refs.len() {
+            s.vprep.resize(refs.len(), Stamped::default());
+        }
+        if s.cprep.len() < others.len() {
+            s.cprep.resize(others.len(), Stamped::default());
+        }
+        s.cells.clear();
+        s.cells.resize(if h > 0.0 { refs.len() } else { 0 }, None);
+        for &(v, c) in &s.box_pairs {
+            let (rp, op) = (refs[v as usize], others[c as usize]);
+            let pv = s.vprep[v as usize].get(stamp, reference, rp);
+            let pc = s.cprep[c as usize].get(stamp, m, op);
+            let cells = (h > 0.0).then(|| &*s.cells[v as usize].get_or_insert_with(|| pv.cells(h)));
+            if pv.meets(pc, cells) {
+                out.push(Contact {
+                    other_mesh: id,
+                    reference_polygon: reference.poly_ids[rp as usize],
+                    other_polygon: m.poly_ids[op as usize],
+                });
+            }
+        }
+    }
+}
