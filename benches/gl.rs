@@ -151,7 +151,8 @@ fn main() {
         .skip(1)
         .find_map(|a| a.parse().ok())
         .unwrap_or(40);
-    // A compatibility-profile context on Mesa's surfaceless platform, current from here on.
+    // A compatibility-profile context on an EGL device (glutin; llvmpipe without a GPU),
+    // current from here on.
     let _ctx = Ctx::new(Profile::Compat);
     let info = unsafe { Gl::load(gpa, std::ptr::null_mut()) }.unwrap().info;
     let what = format!("{} / {}", info.version_string, info.renderer);

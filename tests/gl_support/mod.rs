@@ -1,12 +1,19 @@
-//! Headless GL for the GL tests: an EGL context on Mesa's surfaceless platform (llvmpipe
-//! when there is no GPU), made current on the calling test's thread, and the C API driven
-//! the way a host drives it.
+//! Headless GL for the GL tests: a glutin EGL context on an EGL device (Mesa's software
+//! device, llvmpipe, when there is no GPU), made current with no surface on the calling
+//! test's thread, and the C API driven the way a host drives it.
 #![allow(dead_code)]
 
 use std::ffi::{c_char, c_void, CStr};
+use std::sync::OnceLock;
 
 use glcollide::ffi::*;
-use khronos_egl as egl;
+use glutin::api::egl::config::Config;
+use glutin::api::egl::context::PossiblyCurrentContext;
+use glutin::api::egl::device::Device;
+use glutin::api::egl::display::Display;
+use glutin::config::{Api, ConfigSurfaceTypes, ConfigTemplateBuilder};
+use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
+use glutin::prelude::*;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Profile {
@@ -17,66 +24,67 @@ pub enum Profile {
 }
 
 pub struct Ctx {
-    egl: egl::Instance<egl::Static>,
-    display: egl::Display,
-    context: egl::Context,
+    context: PossiblyCurrentContext,
 }
 
-const PLATFORM_SURFACELESS_MESA: egl::Enum = 0x31DD;
+/// The process's EGL display and the config its contexts are made with: initialized once,
+/// on first use, and never terminated (contexts live on several test threads at once, and
+/// thread-local ones are dropped as their threads end).
+static EGL: OnceLock<Result<(Display, Config), String>> = OnceLock::new();
+
+fn egl() -> Result<&'static (Display, Config), &'static str> {
+    EGL.get_or_init(|| {
+        let mut devices: Vec<Device> = Device::query_devices()
+            .map_err(|e| format!("no EGL devices: {e}"))?
+            .collect();
+        // A GPU's device before Mesa's software one (llvmpipe only when there is no GPU), as
+        // Mesa's surfaceless platform picks.
+        devices.sort_by_key(|d| d.extensions().contains("EGL_MESA_device_software"));
+        let mut tried = Vec::new();
+        for device in &devices {
+            let display = match unsafe { Display::with_device(device, None) } {
+                Ok(d) => d,
+                Err(e) => {
+                    tried.push(format!("{device:?}: {e}"));
+                    continue;
+                }
+            };
+            let template = ConfigTemplateBuilder::new()
+                .with_api(Api::OPENGL)
+                .with_surface_type(ConfigSurfaceTypes::PBUFFER)
+                .build();
+            match unsafe { display.find_configs(template) }.map(|mut c| c.next()) {
+                Ok(Some(config)) => return Ok((display, config)),
+                Ok(None) => tried.push(format!("{device:?}: no OpenGL config")),
+                Err(e) => tried.push(format!("{device:?}: eglChooseConfig: {e}")),
+            }
+        }
+        Err(format!("no EGL device with an OpenGL config: {tried:?}"))
+    })
+    .as_ref()
+    .map_err(String::as_str)
+}
 
 impl Ctx {
     /// A new context, current on this thread until dropped.
     pub fn new(profile: Profile) -> Ctx {
-        let egl = egl::Instance::new(egl::Static);
-        let display = unsafe {
-            egl.get_platform_display(
-                PLATFORM_SURFACELESS_MESA,
-                egl::DEFAULT_DISPLAY,
-                &[egl::ATTRIB_NONE],
-            )
+        let (display, config) = egl().unwrap_or_else(|e| panic!("headless EGL: {e}"));
+        let attributes = match profile {
+            Profile::Core => ContextAttributesBuilder::new()
+                .with_context_api(ContextApi::OpenGl(Some(Version::new(4, 5))))
+                .with_profile(GlProfile::Core),
+            // No version: glutin asks for 2.1, and Mesa gives its highest compatibility
+            // version.
+            Profile::Compat => ContextAttributesBuilder::new()
+                .with_context_api(ContextApi::OpenGl(None))
+                .with_profile(GlProfile::Compatibility),
         }
-        .expect("EGL surfaceless display (Mesa)");
-        egl.initialize(display).expect("eglInitialize");
-        egl.bind_api(egl::OPENGL_API).expect("eglBindAPI(OpenGL)");
-        let config = egl
-            .choose_first_config(
-                display,
-                &[
-                    egl::RENDERABLE_TYPE,
-                    egl::OPENGL_BIT,
-                    egl::SURFACE_TYPE,
-                    egl::PBUFFER_BIT,
-                    egl::NONE,
-                ],
-            )
-            .expect("eglChooseConfig")
-            .expect("an OpenGL config");
-        let attribs: Vec<egl::Int> = match profile {
-            Profile::Core => vec![
-                egl::CONTEXT_MAJOR_VERSION,
-                4,
-                egl::CONTEXT_MINOR_VERSION,
-                5,
-                egl::CONTEXT_OPENGL_PROFILE_MASK,
-                egl::CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                egl::NONE,
-            ],
-            Profile::Compat => vec![
-                egl::CONTEXT_OPENGL_PROFILE_MASK,
-                egl::CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT,
-                egl::NONE,
-            ],
-        };
-        let context = egl
-            .create_context(display, config, None, &attribs)
-            .expect("eglCreateContext");
-        egl.make_current(display, None, None, Some(context))
+        .build(None);
+        let context = unsafe { display.create_context(config, &attributes) }
+            .expect("eglCreateContext")
+            .make_current_surfaceless()
             .expect("eglMakeCurrent (surfaceless)");
-        Ctx {
-            egl,
-            display,
-            context,
-        }
+        Ctx { context }
     }
 
     /// glow on the current context (for the tests' own GL calls).
@@ -98,19 +106,20 @@ impl Ctx {
 }
 
 impl Drop for Ctx {
+    /// Leaves no context current on this thread (as eglMakeCurrent(NO_CONTEXT) does, whichever
+    /// context was current); glutin then destroys the context.
     fn drop(&mut self) {
-        let _ = self.egl.make_current(self.display, None, None, None);
-        let _ = self.egl.destroy_context(self.display, self.context);
+        let _ = self.context.make_not_current_in_place();
     }
 }
 
-extern "C" {
-    fn eglGetProcAddress(name: *const c_char) -> *mut c_void;
-}
-
-/// The loader a host hands to glcollide.
+/// The loader a host hands to glcollide (eglGetProcAddress through glutin's display; null
+/// if there is no EGL).
 pub unsafe extern "C" fn get_proc_address(_user: *mut c_void, name: *const c_char) -> *mut c_void {
-    eglGetProcAddress(name)
+    match egl() {
+        Ok((display, _)) => display.get_proc_address(CStr::from_ptr(name)) as *mut c_void,
+        Err(_) => std::ptr::null_mut(),
+    }
 }
 
 pub fn last_error() -> String {
