@@ -19,6 +19,7 @@ echo "== C examples"
 cargo build --release --locked
 make -s -C examples-c
 examples-c/build/api_errors
+examples-c/build/readme_example
 FRAMES=60 bash scripts/demo.sh | tail -3
 for t in scripts/test.d/*.sh; do
   [ -e "$t" ] || continue
