@@ -42,8 +42,9 @@ int main(void) {
                ok(glcol_query(scene, tool, &c, &n), "glcol_query");
         if (good) printf("frame %d: %zu contacts\n", frame, n);
         for (size_t i = 0; good && i < n; i++) /* c[] lives until the scene's next change */
-            printf("  tool polygon %u touches polygon %u of mesh %u\n", (unsigned)c[i].reference_polygon,
-                   (unsigned)c[i].other_polygon, (unsigned)c[i].other_mesh);
+            printf("  tool polygon %u touches polygon %u of mesh %u\n",
+                   (unsigned)c[i].reference_polygon, (unsigned)c[i].other_polygon,
+                   (unsigned)c[i].other_mesh);
     }
     glcol_scene_destroy(scene);
     return good ? 0 : 1;
