@@ -12,9 +12,22 @@
 #
 # Environment: LIBDIR (relative to PREFIX, default lib; e.g. lib/x86_64-linux-gnu),
 # DESTDIR (stage into DESTDIR/PREFIX, for packaging), CARGO_TARGET_DIR as for cargo.
-# Installs cargo-c (cargo install, about 3 minutes on 2 cores) and the Debian packages its
-# build needs only when they are missing. Without write access to PREFIX, the files are
-# staged and copied with sudo.
+# Installs cargo-c (cargo install --debug, 3 to 5 minutes on 2 cores; CARGO_C_RELEASE=1 builds
+# it optimised, about 10) and the Debian packages its build needs only when they are missing.
+# Without write access to PREFIX, the files are staged and copied with sudo.
+#
+# Without this script (cargo-c already installed): `cargo cinstall --release --prefix=PREFIX`
+# installs everything but the CMake files, which `cmake/write-package-config.sh PREFIX/lib
+# PREFIX/include` then writes (from cmake/*.cmake.in; every path in them is relative to the
+# file, so the installed tree may be moved). `cargo cbuild` builds the same files into
+# target/x86_64-unknown-linux-gnu/release/ without installing.
+#
+# Consumers (README "Install"): pkg-config's Cflags (-I<prefix>/include/glcollide) and the
+# CMake targets make `#include <glcollide.h>` work from any prefix; the CMake targets also add
+# <prefix>/include, so <glcollide/glcollide.h> works there too (and with pkg-config when the
+# prefix is /usr or /usr/local). glcollide::glcollide is the shared library (CMake puts its
+# directory in the build tree's RPATH); glcollide::glcollide_static is libglcollide.a plus the
+# system libraries Rust's standard library needs (`pkg-config --static --libs glcollide`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 prefix=${1:-/usr/local}

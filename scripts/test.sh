@@ -19,6 +19,11 @@ echo "== C examples"
 cargo build --release --locked
 make -s -C examples-c
 examples-c/build/api_errors
+examples-c/build/readme_example
+# README.md shows examples-c/readme_example.c (from its #include on): keep the two identical.
+diff -u <(sed -n '/^#include <glcollide.h>/,$p' examples-c/readme_example.c) \
+  <(sed -n '/^```c$/,/^```$/p' README.md | sed '1d;$d') ||
+  { echo "README.md's C example differs from examples-c/readme_example.c" >&2; exit 1; }
 FRAMES=60 bash scripts/demo.sh | tail -3
 for t in scripts/test.d/*.sh; do
   [ -e "$t" ] || continue

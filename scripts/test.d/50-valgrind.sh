@@ -5,7 +5,8 @@
 # Needs the C examples built (scripts/test.sh builds them first; this builds them if not).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-[ -x examples-c/build/api_errors ] && [ -x examples-c/build/deform_demo ] || make -s -C examples-c
+[ -x examples-c/build/api_errors ] && [ -x examples-c/build/deform_demo ] &&
+  [ -x examples-c/build/readme_example ] || make -s -C examples-c
 vg=(valgrind --quiet --error-exitcode=99 --leak-check=full
     --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect
     --track-origins=yes)
@@ -20,6 +21,7 @@ run() {
   tail -1 "$log"
 }
 run examples-c/build/api_errors
+run examples-c/build/readme_example
 run examples-c/build/deform_demo ../shared/meshes 3 0
 run examples-c/build/deform_demo ../shared/meshes 2 0.001
 rm -f "$log"

@@ -3,27 +3,14 @@
 //! [`StateGuard::enter`] takes the host's pending GL error (kept, not ours), saves every
 //! piece of state a backend may change, and its `Drop` (or [`StateGuard::finish`]) puts
 //! all of it back, so even a panic caught at the C boundary leaves the host's state as it
-//! was. Saved and restored:
-//! - bound program, vertex array, renderbuffer, draw and read framebuffers;
-//! - buffer bindings: array, element array, pixel pack/unpack, uniform, copy read/write,
-//!   shader storage, atomic counter and dispatch-indirect (generic), and the indexed shader
-//!   storage / atomic counter / uniform bindings `0..Uses::indexed_bindings` (buffer,
-//!   start, size);
-//! - viewport, scissor box, polygon mode;
-//! - enables: depth test, blend, cull face, scissor test, stencil test, rasterizer discard,
-//!   primitive restart, sRGB, polygon offset fill, depth clamp, multisample, and every
-//!   user clip plane / clip distance;
-//! - pixel store: pack/unpack alignment, row length, skip pixels/rows, image height;
-//! - compatibility contexts: matrix mode, projection and modelview matrices (the stacks'
-//!   depths are never changed), render mode, selection buffer pointer and size, the name
-//!   stack (restored by popping exactly what was pushed), clip-plane equations.
-//!
-//! - with fixed-function use (GL_SELECT draws with no program, so a host's program
-//!   pipeline would take over): the program pipeline binding;
-//! - never touched, so never saved: the transform feedback object and buffer bindings, textures, samplers and images
-//!   (tests/gl_state.rs checks they survive). A host in the middle of transform feedback
-//!   that is not paused is refused (no program could be changed without ending it): pause
-//!   it around the call.
+//! was. What is saved and restored is listed once, for users, in README.md "GL backends"
+//! (the GL contract): `save` and `restore` below are what it describes, tests/gl_state.rs
+//! checks it, and the three change together. Fixed-function state (GL_SELECT) and the
+//! indexed buffer bindings (GL_COMPUTE) are saved as far as [`Uses`] says a backend touches
+//! them. Never touched, so never saved: the transform feedback object and buffer bindings,
+//! textures, samplers and images. A host in the middle of transform feedback that is not
+//! paused is refused (no program could be changed without ending it): pause it around the
+//! call.
 //!
 //! A host error pending on entry (say GL_INVALID_ENUM) does not fail our call; it is raised
 //! again on exit when it can be (GL_INVALID_ENUM, GL_INVALID_VALUE, GL_INVALID_OPERATION),
