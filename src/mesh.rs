@@ -61,6 +61,7 @@ impl<'a> Positions<'a> {
         (count - 1).checked_mul(stride)?.checked_add(12)
     }
 
+    /// Number of vertices.
     pub fn len(&self) -> usize {
         match self.0 {
             Src::Bytes { count, .. } => count,
@@ -68,6 +69,7 @@ impl<'a> Positions<'a> {
         }
     }
 
+    /// No vertices?
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -294,22 +296,27 @@ impl Mesh {
         self.vertex_slot_start.len() - 1
     }
 
+    /// Number of polygons.
     pub fn polygon_count(&self) -> usize {
         self.poly_ids.len()
     }
 
+    /// 3 (triangles) or 4 (quads).
     pub fn vertices_per_polygon(&self) -> usize {
         self.k
     }
 
+    /// Number of leaf boxes.
     pub fn leaf_count(&self) -> usize {
         self.leaves.len()
     }
 
+    /// The leaf boxes (the root box and one box per leaf).
     pub fn leaves(&self) -> &LeafBoxes {
         &self.leaves
     }
 
+    /// The root box: every vertex of the mesh.
     pub fn root(&self) -> Aabb {
         self.leaves.root
     }

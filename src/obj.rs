@@ -7,12 +7,14 @@ use crate::error::{Error, Result};
 /// A triangle mesh read from OBJ text.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ObjMesh {
+    /// xyz per vertex.
     pub positions: Vec<[f32; 3]>,
     /// Three vertex indices per triangle, 0-based.
     pub triangles: Vec<u32>,
 }
 
 impl ObjMesh {
+    /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len() / 3
     }

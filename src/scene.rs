@@ -72,10 +72,12 @@ impl Scene {
         })
     }
 
+    /// The configuration the scene was made with.
     pub fn config(&self) -> &SceneConfig {
         &self.config
     }
 
+    /// The backend answering the scene's queries.
     pub fn backend(&self) -> Backend {
         self.selector.backend()
     }
@@ -103,6 +105,7 @@ impl Scene {
         Ok(id)
     }
 
+    /// The mesh `id`, or UnknownMesh.
     pub fn mesh(&self, id: MeshId) -> Result<&Mesh> {
         self.meshes.get(&id).ok_or_else(|| unknown(id))
     }
@@ -128,11 +131,13 @@ impl Scene {
         Ok(())
     }
 
+    /// Enables or disables mesh `id` (a disabled mesh costs nothing in a query).
     pub fn set_enabled(&mut self, id: MeshId, enabled: bool) -> Result<()> {
         self.mesh_mut(id)?.enabled = enabled;
         Ok(())
     }
 
+    /// Removes mesh `id` (its id is never reused).
     pub fn destroy_mesh(&mut self, id: MeshId) -> Result<()> {
         self.meshes
             .remove(&id)

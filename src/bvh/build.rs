@@ -82,7 +82,8 @@ fn gap_split(
         let mut best: Option<(f32, usize, usize)> = None;
         for axis in 0..3 {
             let extent = whole.max[axis] - whole.min[axis];
-            if !(extent > 0.0) {
+            // Also skips a NaN extent.
+            if extent.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
                 continue;
             }
             scratch.clear();

@@ -12,7 +12,9 @@ pub use predicates::P3;
 /// vertex coordinates, so it is exact: no rounding, no padding needed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// Lower corner.
     pub min: [f32; 3],
+    /// Upper corner.
     pub max: [f32; 3],
 }
 
@@ -32,20 +34,13 @@ impl Aabb {
     /// Grows the box to hold `p` (plain comparisons: coordinates are finite here).
     #[inline]
     pub fn grow(&mut self, p: &[f32; 3]) {
-        for k in 0..3 {
-            self.min[k] = if p[k] < self.min[k] {
-                p[k]
-            } else {
-                self.min[k]
-            };
-            self.max[k] = if p[k] > self.max[k] {
-                p[k]
-            } else {
-                self.max[k]
-            };
+        for ((lo, hi), &x) in self.min.iter_mut().zip(&mut self.max).zip(p) {
+            *lo = if x < *lo { x } else { *lo };
+            *hi = if x > *hi { x } else { *hi };
         }
     }
 
+    /// Grows the box to hold `o`.
     #[inline]
     pub fn merge(&mut self, o: &Aabb) {
         for k in 0..3 {
@@ -99,6 +94,7 @@ impl Aabb {
             .fold(0.0, f32::max)
     }
 
+    /// Is this the empty box (holding no point)?
     pub fn is_empty(&self) -> bool {
         self.min[0] > self.max[0]
     }

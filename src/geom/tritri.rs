@@ -77,6 +77,8 @@ pub struct Plane {
 const PLANE_SLACK: f64 = 1e-12;
 
 impl Plane {
+    /// The plane of triangle `t`: a vertex, the unnormalised normal and the scale of its
+    /// rounding error.
     pub fn of(t: &[P3; 3]) -> Plane {
         let o = t[0];
         let e = [t[1][0] - o[0], t[1][1] - o[1], t[1][2] - o[2]];
