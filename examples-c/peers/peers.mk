@@ -1,8 +1,8 @@
 # The peer harness (README.md beside this file), included by the drivers' Makefiles:
 #   examples-c/crosscheck/Makefile   PROGRAM = crosscheck    ENGINES = fcl bullet
 #   bench/peers/Makefile             PROGRAM = glcol_peers   ENGINES = fcl bullet embree gl
-# The including Makefile sets PROGRAM and ENGINES first; its directory holds main.cpp and
-# gets build/PROGRAM. The harness's objects are built once, with one set of flags, in
+# The including Makefile sets PROGRAM, ENGINES and DRIVER (its own directory, which holds
+# main.cpp and gets build/PROGRAM) first. The harness's objects are built once, with one set of flags, in
 # examples-c/peers/build/ and linked into both programs.
 # Peers are found with pkg-config: `fcl` (its .pc injects -std=c++11, so -std=c++17 comes
 # after it) and `bullet-float64` (double build: -DBT_USE_DOUBLE_PRECISION must match the
@@ -11,7 +11,7 @@
 # does), or LIBDIR=... on the command line.
 PEERS := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 ROOT := $(abspath $(PEERS)/../..)
-DRIVER := $(CURDIR)
+DRIVER ?= $(CURDIR)
 PROFILE ?= release
 LIBDIR ?= $(or $(CARGO_TARGET_DIR),$(ROOT)/target)/$(PROFILE)
 BUILD := $(DRIVER)/build

@@ -67,7 +67,6 @@ static void rot_to(const double d[3], double R[9]) {
     for (int r = 0; r < 3; r++) R[3 * r] = u[r], R[3 * r + 1] = v[r], R[3 * r + 2] = w[r];
 }
 
-
 Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3], int frames) {
     Scene S;
     S.kind = "instrument-organ";
@@ -125,7 +124,6 @@ static Scene hard(const std::string &name, Mesh a, Mesh b, double amp, double si
     S.eps = 1e-3f;
     return S;
 }
-
 
 std::vector<std::function<Scene()>> crosscheck_scenes(const std::string &dir, int frames_override) {
     std::vector<std::function<Scene()>> v;
