@@ -2,7 +2,8 @@
 # Every benchmark in one command (README "Benchmarks"):
 #   bash scripts/bench.sh [--quick] [--scale X] [--no-gl] [--only NAME] [--budget SECONDS]
 # Installs the peers' Debian packages only when missing, builds the library (release),
-# the C++ peer program (bench/peers) and the parry bench, then runs:
+# the C++ peer program (bench/peers: its driver; the engines, scenes and exact answer are the
+# peer harness in examples-c/peers, shared with the cross-check) and the parry bench, then runs:
 #   1. bench/peers/build/glcol_peers: glcollide (C API; CPU, and GL_SELECT / GL_COMPUTE on a
 #      headless EGL context when there is one) against FCL, Bullet and Embree on the same
 #      scenes and frames, the epsilon sweep and the polygons-per-box sweep -> peers.csv;

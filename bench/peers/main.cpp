@@ -1,6 +1,8 @@
 // glcol_peers: see bench/README.md. Writes <out>/peers.csv (one row per scene x engine x
 // configuration) and, with --dump DIR, the scenes' frames and exact answers for the parry
-// bench (benches/parry.rs), so both programs time the same frames.
+// bench (benches/parry.rs), so both programs time the same frames. The engines, the scenes
+// and the exact answer are the peer harness (examples-c/peers, README.md there), which the
+// cross-check (examples-c/crosscheck) shares.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,8 +14,9 @@
 #include <set>
 #include <stdexcept>
 
-#include "../../include/glcollide.h"
-#include "scenes.h"
+#include "scenes.hpp"
+
+using namespace peers;
 
 namespace {
 struct Opts {
@@ -22,12 +25,6 @@ struct Opts {
   double budget = 60;   // seconds per (scene, engine) run at most
   bool quick = false, gl = true, sweeps = true, peers = true;
 } opt;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct Row {
   std::string scene, group, engine;
@@ -69,10 +66,10 @@ void write_csv() {
 
 struct Checks {
   std::vector<int> frames;
-  std::vector<std::vector<Pair>> ref;
+  std::vector<std::vector<Key>> ref;  // triangle pairs, sorted
 };
 
-Checks reference(const SceneDef& s, int frames, int n) {
+Checks reference(const Scene& s, int frames, int n) {
   Checks c;
   Frame fr;
   n = std::min(n, frames);
@@ -81,12 +78,13 @@ Checks reference(const SceneDef& s, int frames, int n) {
     if (!c.frames.empty() && c.frames.back() == f) continue;
     s.frame(f, fr);
     c.frames.push_back(f);
-    c.ref.push_back(reference_pairs(s.a, fr.ad, s.b, fr.bd));
+    c.ref.emplace_back();
+    exact_pairs(s.A.mesh, fr.ad.data(), s.B.mesh, fr.bd.data(), c.ref.back());
   }
   return c;
 }
 
-Row run(const SceneDef& s, Engine* e, int frames, const Checks& chk, double eps_rel = 0, double eps_abs = 0,
+Row run(const Scene& s, Engine* e, int frames, const Checks& chk, double eps_rel = 0, double eps_abs = 0,
         uint32_t leaf = 0) {
   Row r;
   r.scene = s.name;
@@ -95,12 +93,13 @@ Row run(const SceneDef& s, Engine* e, int frames, const Checks& chk, double eps_
   r.eps_rel = eps_rel;
   r.eps_abs = eps_abs;
   r.leaf = leaf;
-  r.tris_a = s.a.nt();
-  r.tris_b = s.b.nt();
+  const Mesh &A = s.A.mesh, &B = s.B.mesh;
+  r.tris_a = A.ntri();
+  r.tris_b = B.ntri();
   Frame fr;
   s.frame(0, fr);
   try {
-    e->build(s.a, s.b, fr);
+    e->build(A, B, fr);
   } catch (std::exception& ex) {
     r.note = std::string("unavailable: ") + ex.what();
     fprintf(stderr, "  %s: %s\n", r.engine.c_str(), r.note.c_str());
@@ -108,7 +107,7 @@ Row run(const SceneDef& s, Engine* e, int frames, const Checks& chk, double eps_
   }
   r.bytes = e->bytes();
   std::vector<double> up, q, tot, np;
-  std::vector<Pair> out;
+  std::vector<Key> out;
   double start = now_us();
   // two untimed warm-up frames
   for (int f = 0; f < std::min(2, frames); f++) {
@@ -136,18 +135,15 @@ Row run(const SceneDef& s, Engine* e, int frames, const Checks& chk, double eps_
     while (ci < chk.frames.size() && chk.frames[ci] < f) ci++;
     if (ci < chk.frames.size() && chk.frames[ci] == f) {
       const auto& ref = chk.ref[ci];
-      std::vector<Pair> miss, extra;
+      std::vector<Key> miss, extra;
       std::set_difference(ref.begin(), ref.end(), out.begin(), out.end(), std::back_inserter(miss));
       std::set_difference(out.begin(), out.end(), ref.begin(), ref.end(), std::back_inserter(extra));
       r.check_frames++;
       r.ref_pairs += ref.size();
       r.missed += miss.size();
       r.extra += extra.size();
-      for (auto [i, j] : extra) {
-        const uint32_t* ta = &s.a.t[3 * i];
-        const uint32_t* tb = &s.b.t[3 * j];
-        double d = tri_distance(&fr.ad[3 * ta[0]], &fr.ad[3 * ta[1]], &fr.ad[3 * ta[2]], &fr.bd[3 * tb[0]],
-                                &fr.bd[3 * tb[1]], &fr.bd[3 * tb[2]]);
+      for (Key k : extra) {  // the exact distance (triangle meshes: polygon = triangle)
+        double d = judge(A, fr.ad.data(), key_a(k), B, fr.bd.data(), key_b(k), 0.0).dist;
         r.max_extra_dist = std::max(r.max_extra_dist, d);
       }
     }
@@ -167,24 +163,25 @@ Row run(const SceneDef& s, Engine* e, int frames, const Checks& chk, double eps_
   return r;
 }
 
-void dump(const SceneDef& s, int frames, const Checks& chk) {
+void dump(const Scene& s, int frames, const Checks& chk) {
   std::string path = opt.dump + "/" + s.name + ".scene";
   std::ofstream f(path, std::ios::binary);
   auto u64 = [&](uint64_t x) { f.write(reinterpret_cast<const char*>(&x), 8); };
   auto f64 = [&](double x) { f.write(reinterpret_cast<const char*>(&x), 8); };
   f.write("GLCSCN01", 8);
-  u64(s.a.nv());
-  u64(s.a.nt());
-  u64(s.b.nv());
-  u64(s.b.nt());
+  const Mesh &A = s.A.mesh, &B = s.B.mesh;
+  u64(A.nv());
+  u64(A.ntri());
+  u64(B.nv());
+  u64(B.ntri());
   u64(uint64_t(frames));
   u64(chk.frames.size());
   f64(s.extent);
   std::string g = s.group;
   g.resize(16, ' ');
   f.write(g.data(), 16);
-  f.write(reinterpret_cast<const char*>(s.a.t.data()), s.a.t.size() * 4);
-  f.write(reinterpret_cast<const char*>(s.b.t.data()), s.b.t.size() * 4);
+  f.write(reinterpret_cast<const char*>(A.tri.data()), A.tri.size() * 4);
+  f.write(reinterpret_cast<const char*>(B.tri.data()), B.tri.size() * 4);
   Frame fr;
   for (int i = 0; i < frames; i++) {
     s.frame(i, fr);
@@ -194,7 +191,10 @@ void dump(const SceneDef& s, int frames, const Checks& chk) {
   for (size_t i = 0; i < chk.frames.size(); i++) {
     u64(uint64_t(chk.frames[i]));
     u64(chk.ref[i].size());
-    f.write(reinterpret_cast<const char*>(chk.ref[i].data()), chk.ref[i].size() * 8);
+    for (Key k : chk.ref[i]) {  // (u32 triangle of A, u32 triangle of B)
+      uint32_t ab[2] = {key_a(k), key_b(k)};
+      f.write(reinterpret_cast<const char*>(ab), 8);
+    }
   }
 }
 
@@ -234,64 +234,28 @@ int main(int argc, char** argv) {
   bool have_gl = opt.gl && gl_context_init(renderer);
   fprintf(stderr, "glcollide %s; GL: %s\n", glcol_version(), have_gl ? renderer.c_str() : "none");
 
-  auto M = [&](const char* n) { return load_obj(opt.meshes + "/" + n + ".obj"); };
-  std::vector<SceneDef> scenes;
-  Mesh blade = M("scissors_blade"), jaw = M("forceps_jaw");
-  auto add_instrument = [&](const std::string& name, const std::string& group, const Mesh& ins, const Mesh& organ,
-                            const std::string& how) {
-    if (!opt.only.empty() && name.find(opt.only) == std::string::npos) return;
-    SceneDef s = instrument_scene(name, group, ins, organ, 0.12);
-    s.how = how + "; " + s.how;
-    tune_depth(s, 12);
-    scenes.push_back(s);
-  };
-  std::string how;
-  {
-    Mesh face = M("face");
-    Mesh f12 = decimate(face, 1252, &how);
-    add_instrument("blade_vs_face1k", "paper", blade, f12, "face.obj " + how);
-  }
-  add_instrument("blade_vs_teapot4k", "paper", blade, M("teapot"), "teapot.obj as is");
-  Mesh gall = M("gallbladder_glt");
-  add_instrument("blade_vs_gallbladder15k", "paper", blade, gall, "gallbladder_glt.obj as is (stands for the airways, 14,436)");
-  if (!opt.quick) {
-    Mesh c32 = decimate(M("colon_100k"), 32375, &how);
-    add_instrument("blade_vs_colon32k", "paper", blade, c32, "colon_100k.obj " + how);
-    Mesh s52 = decimate(M("spine_pelvis"), 51910, &how);
-    std::string h52 = "spine_pelvis.obj " + how;
-    add_instrument("blade_vs_spine52k", "paper", blade, s52, h52);
-    add_instrument("jaw_vs_spine52k", "instrument", jaw, s52, h52);
-    Mesh g = gall;
-    const char* names[] = {"blade_vs_gallbladder59k", "blade_vs_gallbladder235k", "blade_vs_gallbladder941k"};
-    for (int k = 0; k < 3; k++) {
-      g = subdivide(g);
-      add_instrument(names[k], "scaling", blade, g,
-                     "gallbladder_glt.obj, midpoint subdivision x" + std::to_string(k + 1) + " (" + std::to_string(g.nt()) + " triangles)");
-    }
-  }
-  if (opt.only.empty() || std::string("colon_vs_small_intestine").find(opt.only) != std::string::npos)
-    scenes.push_back(heavy_scene("colon_vs_small_intestine", M("colon"), M("small_intestine")));
-
+  std::vector<Scene> scenes = bench_scenes(opt.meshes, opt.only, opt.quick);
   for (auto& s : scenes) {
     fprintf(stderr, "scene %s (%s): %zu vs %zu triangles, extent %.4g, depth %.4g; %s\n", s.name.c_str(), s.group.c_str(),
-            s.a.nt(), s.b.nt(), s.extent, s.depth, s.how.c_str());
+            s.A.mesh.ntri(), s.B.mesh.ntri(), s.extent, s.depth, s.how.c_str());
   }
   if (!opt.dump.empty()) {
     FILE* f = fopen((opt.dump + "/scenes.txt").c_str(), "w");
-    for (auto& s : scenes) fprintf(f, "%s\t%s\t%zu\t%zu\t%s\n", s.name.c_str(), s.group.c_str(), s.a.nt(), s.b.nt(), s.how.c_str());
+    for (auto& s : scenes) fprintf(f, "%s\t%s\t%zu\t%zu\t%s\n", s.name.c_str(), s.group.c_str(), s.A.mesh.ntri(), s.B.mesh.ntri(), s.how.c_str());
     fclose(f);
   }
   {
     FILE* f = fopen((opt.out + "/scenes.tsv").c_str(), "w");
     fprintf(f, "scene\tgroup\ttris_a\ttris_b\textent\thow\n");
-    for (auto& s : scenes) fprintf(f, "%s\t%s\t%zu\t%zu\t%g\t%s\n", s.name.c_str(), s.group.c_str(), s.a.nt(), s.b.nt(), s.extent, s.how.c_str());
+    for (auto& s : scenes) fprintf(f, "%s\t%s\t%zu\t%zu\t%g\t%s\n", s.name.c_str(), s.group.c_str(), s.A.mesh.ntri(), s.B.mesh.ntri(), s.extent, s.how.c_str());
     fprintf(f, "# GL: %s\n", have_gl ? renderer.c_str() : "none");
     fclose(f);
   }
 
   int nchk = opt.quick ? 2 : 8;
   for (auto& s : scenes) {
-    int frames = s.instrument ? frames_for(s.b.nt(), 200) : frames_for(s.b.nt(), 60);
+    bool instrument = s.kind == "instrument-organ";
+    int frames = instrument ? frames_for(s.B.mesh.ntri(), 200) : frames_for(s.B.mesh.ntri(), 60);
     if (opt.quick) frames = 3;
     fprintf(stderr, "== %s: %d frames, exact answer on %d of them\n", s.name.c_str(), frames, std::min(nchk, frames));
     Checks chk = reference(s, frames, nchk);
@@ -299,19 +263,9 @@ int main(int argc, char** argv) {
     std::vector<std::function<Engine*()>> engines = {[] { return make_glcol(GLCOL_BACKEND_CPU, 0.0f, 0); }};
     if (opt.peers) {
       // a full quantum of Bullet's 16-bit frame (box padded by 1.0): at least half a quantum
-      double ma = 0, mb = 0;
-      {
-        double e = 0;
-        Mesh x = s.a;
-        std::vector<float>& v = x.v;
-        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (size_t i = 0; i < v.size(); i++) lo[i % 3] = std::min(lo[i % 3], double(v[i])), hi[i % 3] = std::max(hi[i % 3], double(v[i]));
-        for (int k = 0; k < 3; k++) e = std::max(e, hi[k] - lo[k]);
-        ma = (e + 2.0 + 0.02 * s.extent) / 65535.0;
-        mb = (s.extent + 2.0) / 65535.0;
-      }
+      double ma = (extent(s.A.mesh) + 2.0 + 0.02 * s.extent) / 65535.0, mb = (s.extent + 2.0) / 65535.0;
       engines.push_back([] { return make_fcl(); });
-      engines.push_back([ma, mb] { return make_bullet(ma, mb); });
+      engines.push_back([ma, mb] { return make_bullet(ma, mb, false); });  // refit only
       engines.push_back([] { return make_embree(); });
     }
     for (auto& mk : engines) {
@@ -334,10 +288,10 @@ int main(int argc, char** argv) {
         }
         for (double er : {0.0, 1e-5, 1e-4, 1e-3, 1e-2}) {
           // llvmpipe takes seconds per heavy-case query: two epsilons there
-          if (be != GLCOL_BACKEND_CPU && !s.instrument && er != 0.0 && er != 1e-3) continue;
+          if (be != GLCOL_BACKEND_CPU && !instrument && er != 0.0 && er != 1e-3) continue;
           float ea = float(er * s.extent);
-          std::unique_ptr<Engine> e(make_glcol(be, ea, 0));
-          int fr = be == GLCOL_BACKEND_CPU ? frames : std::min(frames, opt.quick || !s.instrument ? 3 : 20);
+          std::unique_ptr<Engine> e(make_glcol(be, ea, 0, gl_get_proc));
+          int fr = be == GLCOL_BACKEND_CPU ? frames : std::min(frames, opt.quick || !instrument ? 3 : 20);
           Row r = run(s, e.get(), fr, chk, er, ea);
           r.group = "eps_sweep";
           rows.push_back(r);

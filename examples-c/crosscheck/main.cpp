@@ -9,9 +9,9 @@
 //              A as the reference, and again with B ("B-ref", pairs swapped back)
 //   glc e      glcollide, CPU backend, epsilon e > 0: documented as a superset of `exact`
 //              whose extra pairs lie within e/2 of each other
-//   FCL        BVHModel<AABB>, refit each frame, all contacts (fcl_peer.cpp)
+//   FCL        BVHModel<AABB>, refit each frame, all contacts (fcl_engine.cpp)
 //   Bullet     GImpact quantized BVH, refit each frame (rebuilt when a mesh leaves its
-//              quantization frame), find_collision + exact test (bullet_peer.cpp)
+//              quantization frame), find_collision + exact test (bullet_engine.cpp)
 //   Bullet refit-only   the same, never rebuilt (finding only)
 //   GImpact native      the same candidates through GImpact's own triangle test (finding only)
 // Every pair on which a library and `exact` disagree is judged on its own with exact
@@ -24,82 +24,25 @@
 // and 2q+1 = (v0,v2,v3) of quad q (glcollide's documented split), and a triangle pair
 // (s, t) counts as polygon pair (s/2, t/2).
 //
+// The engines, the scenes and the exact judge are the peer harness (../peers, README.md
+// there), which the benchmark (bench/peers) shares.
+//
 //   crosscheck [--meshes DIR] [--frames N] [--only TEXT] [--examples N] [--markdown FILE]
-#include "common.hpp"
 #include "scenes.hpp"
 
-#include <glcollide.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <map>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
-using namespace xc;
+using namespace peers;
 
 namespace {
-
-#define GLC(call)                                                                              \
-    do {                                                                                       \
-        GlcolStatus s_ = (call);                                                               \
-        if (s_ != GLCOL_STATUS_OK)                                                             \
-            throw std::runtime_error(std::string(#call) + ": " + glcol_status_name(s_) + ": " + \
-                                     glcol_last_error_message());                              \
-    } while (0)
-
-struct Glc {
-    GlcolScene *s = nullptr;
-    GlcolMeshId a = 0, b = 0;
-    size_t na = 0, nb = 0;
-
-    Glc(const Mesh &A, const float *pa, const Mesh &B, const float *pb, float eps) {
-        GlcolSceneDesc sd;
-        glcol_scene_desc_init(&sd);
-        sd.backend = GLCOL_BACKEND_CPU;
-        sd.epsilon = eps;
-        GLC(glcol_scene_create(&sd, &s));
-        a = add(A, pa);
-        b = add(B, pb);
-        na = A.nv();
-        nb = B.nv();
-    }
-    ~Glc() { glcol_scene_destroy(s); }
-    GlcolMeshId add(const Mesh &M, const float *p) {
-        GlcolMeshDesc d;
-        glcol_mesh_desc_init(&d);
-        d.positions = p;
-        d.vertex_count = M.nv();
-        d.indices = M.poly.data();
-        d.polygon_count = M.npoly();
-        d.vertices_per_polygon = M.vpp;
-        GlcolMeshId id = 0;
-        GLC(glcol_mesh_create(s, &d, &id));
-        return id;
-    }
-    void update(const float *pa, const float *pb) {
-        GLC(glcol_mesh_update_positions(s, a, pa, 0, na, 0));
-        GLC(glcol_mesh_update_positions(s, b, pb, 0, nb, 0));
-    }
-    // Pairs (polygon of A, polygon of B), asking with A (or, reversed, B) as the reference.
-    void query(std::vector<Key> &out, bool reversed = false) {
-        const GlcolContact *c = nullptr;
-        size_t n = 0;
-        GLC(glcol_query(s, reversed ? b : a, &c, &n));
-        out.clear();
-        for (size_t i = 0; i < n; i++) {
-            if (c[i].other_mesh != (reversed ? a : b)) continue;
-            out.push_back(reversed ? key(c[i].other_polygon, c[i].reference_polygon)
-                                   : key(c[i].reference_polygon, c[i].other_polygon));
-        }
-        sort_unique(out); // sorted and unique by contract (A as reference); cheap
-    }
-};
 
 enum Lib { L_EXACT, L_GLC0, L_GLC0R, L_GLCE, L_FCL, L_BULLET, L_BULLET_RO, L_NATIVE, NLIB };
 const char *lib_name[NLIB] = {"exact",  "glc e=0", "glc e=0 B-ref", "glc e",
@@ -159,19 +102,6 @@ struct SceneResult {
     double seconds = 0;
 };
 
-double median(std::vector<double> v) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
-struct Timer {
-    std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
-    double us() const {
-        return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-    }
-};
-
 void to_poly(const Mesh &A, const Mesh &B, const std::vector<Key> &tri_pairs, std::vector<Key> &out) {
     out.clear();
     out.reserve(tri_pairs.size());
@@ -205,93 +135,68 @@ SceneResult run(const Scene &S, size_t max_examples, bool classify_exact, bool i
     const Mesh &A = S.A.mesh, &B = S.B.mesh;
     const double half = double(S.eps) / 2;
 
-    std::vector<float> fa, fb;
-    std::vector<double> da, db;
-    pose(S.A, 0, fa, da);
-    pose(S.B, 0, fb, db);
-    Glc g0(A, fa.data(), B, fb.data(), 0.0f), ge(A, fa.data(), B, fb.data(), S.eps);
-    FclPeer *fcl = fcl_create(A, da.data(), B, db.data());
-    BulletPeer *bul = bullet_create(A, da.data(), B, db.data(), true);
-    BulletPeer *bro = bullet_create(A, da.data(), B, db.data(), false);
+    // Every library starts from frame 0 and, from frame 1 on, gets each frame (prepare) and
+    // refits (update) before it is asked; the times are of prepare + update + query.
+    Frame fr;
+    S.frame(0, fr);
+    std::unique_ptr<GlcolEngine> g0(make_glcol(GLCOL_BACKEND_CPU, 0.0f, 0)), ge(make_glcol(GLCOL_BACKEND_CPU, S.eps, 0));
+    std::unique_ptr<Engine> fcl(make_fcl());
+    std::unique_ptr<BulletEngine> bul(make_bullet(0, 0, true)), bro(make_bullet(0, 0, false));
+    Engine *all[] = {g0.get(), ge.get(), fcl.get(), bul.get(), bro.get()};
+    for (Engine *e : all) e->build(A, B, fr);
 
-    std::vector<Key> set[NLIB], tmp, cand;
+    std::vector<Key> set[NLIB], tmp;
     for (int f = 0; f < S.frames; f++) {
-        if (f > 0) {
-            pose(S.A, f, fa, da);
-            pose(S.B, f, fb, db);
-        }
+        if (f > 0) S.frame(f, fr);
+        const std::vector<float> &fa = fr.a, &fb = fr.b;
+        const double *da = fr.ad.data(), *db = fr.bd.data();
+        auto ask = [&](Engine &e, int lib, std::vector<Key> &out) {
+            Timer t;
+            if (f > 0) {
+                e.prepare(fr);
+                e.update(fr);
+            }
+            e.query(out);
+            R.lib[lib].us.push_back(t.us());
+        };
         {
             Timer t;
-            exact_pairs(A, da.data(), B, db.data(), tmp);
+            exact_pairs(A, da, B, db, tmp);
             to_poly(A, B, tmp, set[L_EXACT]);
             R.lib[L_EXACT].us.push_back(t.us());
             if (f % 10 == 0 && A.ntri() * B.ntri() <= 400000) { // small scenes: sweep vs brute force
                 std::vector<Key> all;
                 for (uint32_t i = 0; i < A.ntri(); i++)
                     for (uint32_t j = 0; j < B.ntri(); j++)
-                        if (exact_tri_intersect(da.data(), &A.tri[3 * i], db.data(), &B.tri[3 * j]))
-                            all.push_back(key(i, j));
+                        if (exact_tri_intersect(da, &A.tri[3 * i], db, &B.tri[3 * j])) all.push_back(key(i, j));
                 if (all != tmp) throw std::runtime_error("exact reference: the sweep lost or invented pairs");
             }
         }
-        {
-            Timer t;
-            if (f > 0) g0.update(fa.data(), fb.data());
-            g0.query(set[L_GLC0]);
-            R.lib[L_GLC0].us.push_back(t.us());
-            g0.query(set[L_GLC0R], true);
+        ask(*g0, L_GLC0, set[L_GLC0]);
+        sort_unique(set[L_GLC0]); // sorted and unique by contract (A as reference); cheap
+        g0->query_from_b(set[L_GLC0R]);
+        sort_unique(set[L_GLC0R]);
+        ask(*ge, L_GLCE, set[L_GLCE]);
+        sort_unique(set[L_GLCE]);
+        if (inject && !set[L_GLCE].empty()) { // self-test of the checker: lose one pair
+            set[L_GLC0].erase(set[L_GLC0].begin());
+            set[L_GLCE].erase(set[L_GLCE].begin());
         }
-        {
-            Timer t;
-            if (f > 0) ge.update(fa.data(), fb.data());
-            ge.query(set[L_GLCE]);
-            if (inject && !set[L_GLCE].empty()) { // self-test of the checker: lose one pair
-                set[L_GLC0].erase(set[L_GLC0].begin());
-                set[L_GLCE].erase(set[L_GLCE].begin());
-            }
-            R.lib[L_GLCE].us.push_back(t.us());
-        }
-        {
-            Timer t;
-            if (f > 0) fcl_update(fcl, da.data(), db.data());
-            fcl_query(fcl, tmp);
-            R.lib[L_FCL].us.push_back(t.us());
-            to_poly(A, B, tmp, set[L_FCL]);
-        }
-        {
-            Timer t;
-            if (f > 0) bullet_update(bul, da.data(), db.data());
-            bullet_candidates(bul, cand);
-            double t_bvh = t.us();
-            tmp.clear();
-            for (Key k : cand)
-                if (exact_tri_intersect(da.data(), &A.tri[3 * key_a(k)], db.data(), &B.tri[3 * key_b(k)]))
-                    tmp.push_back(k);
-            R.lib[L_BULLET].us.push_back(t.us());
-            to_poly(A, B, tmp, set[L_BULLET]);
-            Timer t2;
-            bullet_native(bul, cand, tmp);
-            R.lib[L_NATIVE].us.push_back(t_bvh + t2.us());
-            to_poly(A, B, tmp, set[L_NATIVE]);
-        }
-        {
-            Timer t;
-            if (f > 0) bullet_update(bro, da.data(), db.data());
-            bullet_candidates(bro, cand);
-            tmp.clear();
-            for (Key k : cand)
-                if (exact_tri_intersect(da.data(), &A.tri[3 * key_a(k)], db.data(), &B.tri[3 * key_b(k)]))
-                    tmp.push_back(k);
-            R.lib[L_BULLET_RO].us.push_back(t.us());
-            to_poly(A, B, tmp, set[L_BULLET_RO]);
-        }
+        ask(*fcl, L_FCL, tmp);
+        to_poly(A, B, tmp, set[L_FCL]);
+        ask(*bul, L_BULLET, tmp); // find_collision + the exact test
+        to_poly(A, B, tmp, set[L_BULLET]);
+        bul->native(tmp); // GImpact's own test on the same candidates
+        to_poly(A, B, tmp, set[L_NATIVE]);
+        ask(*bro, L_BULLET_RO, tmp);
+        to_poly(A, B, tmp, set[L_BULLET_RO]);
 
         // Judge every pair on which a library and the exact reference disagree.
         std::unordered_map<Key, Verdict> cache;
         auto verdict = [&](Key k) {
             auto it = cache.find(k);
             if (it != cache.end()) return it->second;
-            Verdict v = judge(A, da.data(), key_a(k), B, db.data(), key_b(k), half);
+            Verdict v = judge(A, da, key_a(k), B, db, key_b(k), half);
             cache.emplace(k, v);
             return v;
         };
@@ -328,11 +233,8 @@ SceneResult run(const Scene &S, size_t max_examples, bool classify_exact, bool i
                 }
         }
     }
-    R.bullet_rebuilds = bullet_rebuilds(bul);
-    R.bullet_out_of_frame = bullet_rebuilds(bro);
-    fcl_destroy(fcl);
-    bullet_destroy(bul);
-    bullet_destroy(bro);
+    R.bullet_rebuilds = bul->rebuilds();
+    R.bullet_out_of_frame = bro->rebuilds();
     R.seconds = total.us() / 1e6;
     return R;
 }
@@ -428,7 +330,7 @@ int main(int argc, char **argv) {
             bool tool = a == "--tool";
             custom.push_back([x, y, tool, &frames] {
                 int fr = frames > 0 ? frames : 100;
-                Mesh mx = load_obj_path(x), my = load_obj_path(y);
+                Mesh mx = load_obj(x), my = load_obj(y);
                 static const double d[3] = {1, 0.3, 0.2};
                 return tool ? instrument_vs_organ(mx, my, d, fr) : organ_vs_organ(mx, my, fr);
             });
@@ -442,7 +344,7 @@ int main(int argc, char **argv) {
     std::vector<SceneResult> rs;
     long long fails = 0;
     try {
-        for (auto &make : custom.empty() ? all_scenes(dir, frames) : custom) {
+        for (auto &make : custom.empty() ? crosscheck_scenes(dir, frames) : custom) {
             Scene S = make();
             if (!only.empty() && S.name.find(only) == std::string::npos) continue;
             SceneResult r = run(S, examples, classify, inject);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Cross-check against FCL and Bullet (issue 4): builds examples-c/crosscheck (glcollide, FCL
-# and Bullet from Debian, CGAL as the exact judge; packages in 40-crosscheck.deps) and runs
-# every scene. Exit status non-zero on any glcollide disagreement with the exact reference
+# Cross-check against FCL and Bullet (issue 4): builds examples-c/crosscheck (its driver, on
+# the peer harness examples-c/peers shared with the benchmark: glcollide, FCL and Bullet from
+# Debian, CGAL as the exact judge; packages in 40-crosscheck.deps) and runs every scene. Exit status non-zero on any glcollide disagreement with the exact reference
 # (the peers' disagreements are printed as findings only). Extra arguments go to the
 # program, e.g. `bash scripts/test.d/40-crosscheck.sh --only colon --frames 20`.
 set -euo pipefail

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Benchmark smoke run: every program of `scripts/bench.sh` on the small scenes with 3 frames
-# (glcol_peers --quick; GL backends left out: llvmpipe alone takes a minute under load),
-# into a temporary directory. Checks that everything builds, runs,
-# agrees with the exact answer and writes its files; asserts nothing about timing.
+# (glcol_peers --quick, built from bench/peers and the peer harness examples-c/peers; GL
+# backends left out: llvmpipe alone takes a minute under load), into a temporary directory.
+# Checks that everything builds, runs, agrees with the exact answer and writes its files;
+# asserts nothing about timing.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 tmp=$(mktemp -d)

@@ -1,5 +1,5 @@
-// crosscheck: the exact reference and the judge, both built on CGAL (libcgal-dev), which
-// shares no code with glcollide, FCL or Bullet.
+// The exact reference and the judge of both drivers, built on CGAL (libcgal-dev), which
+// shares no code with glcollide, FCL, Bullet or Embree.
 //
 // * exact_pairs: a sweep over the triangles' exact double boxes (closed comparisons, so no
 //   rounding can lose a pair), then CGAL::do_intersect on the closed triangles with the
@@ -14,6 +14,9 @@
 //   that meet, whether a plane separates them weakly (the 17 SAT axes of two triangles,
 //   exact dot products): then they only touch (shared vertex/edge, contact on the boundary,
 //   coplanar overlap), else they truly cross.
+// The cross-check judges every disagreement with these; the benchmark takes exact_pairs as
+// its exact answer, exact_tri_intersect as the narrow phase after Bullet's and Embree's
+// candidates, and judge's distance for the pairs a configuration reports beyond the answer.
 #include "common.hpp"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
@@ -29,30 +32,9 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace xc {
+namespace peers {
 
 const char *const class_name[NCLASS] = {"cross", "touch", "band", "apart"};
-
-void sort_unique(std::vector<Key> &v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-}
-
-void Mesh::split_polygons() {
-    tri.clear();
-    tri_poly.clear();
-    for (size_t p = 0; p < npoly(); p++) {
-        const uint32_t *q = &poly[p * vpp];
-        if (vpp == 3) {
-            tri.insert(tri.end(), {q[0], q[1], q[2]});
-            tri_poly.push_back(uint32_t(p));
-        } else { // quad (v0,v1,v2,v3) -> (v0,v1,v2), (v0,v2,v3)
-            tri.insert(tri.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-            tri_poly.push_back(uint32_t(p));
-            tri_poly.push_back(uint32_t(p));
-        }
-    }
-}
 
 namespace {
 
@@ -353,4 +335,4 @@ Verdict judge(const Mesh &A, const double *pa, uint32_t a, const Mesh &B, const 
     return {cross ? CROSS : TOUCH, !cross && coplanar, 0.0};
 }
 
-} // namespace xc
+} // namespace peers

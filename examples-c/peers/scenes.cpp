@@ -1,19 +1,34 @@
-// crosscheck: the scenes. Real meshes from ../shared/meshes (read with glcol_obj_load) placed
-// so they touch, and generated hard cases. Every scene is a reference mesh A and a mesh B,
-// each moved per frame by pose() below (warp in the mesh's own frame, then a rigid move).
+// The scenes of both drivers (scenes.hpp). The cross-check's: every real mesh of
+// ../shared/meshes placed so they touch, and generated hard cases; every body is moved per
+// frame by pose() (warp in the mesh's own frame, then a rigid move). The benchmark's: the
+// paper's set (§3), an instrument pushed into an organ to a depth of about 12 pairs, and the
+// heavy organ-organ case, with the same pose().
 #include "scenes.hpp"
 
-#include <glcollide.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <map>
-#include <stdexcept>
-#include <tuple>
+#include <cstdio>
+#include <memory>
 
-namespace xc {
+namespace peers {
 
 static const double PI = 3.14159265358979323846;
+
+Warp axis_warp(double amp, double k, double sign, int shift, int along) {
+    return [=](int f, double x[3]) {
+        if (amp != 0) x[shift] += sign * amp * std::sin(0.35 * f + k * x[along]);
+    };
+}
+
+Warp wave_warp(double amp, double k, double rate) {
+    return [=](int f, double x[3]) {
+        double ph = rate * f, p[3] = {x[0], x[1], x[2]};
+        x[0] = p[0] + amp * std::sin(ph + k * p[1]);
+        x[1] = p[1] + amp * std::sin(1.3 * ph + k * p[2]);
+        x[2] = p[2] + amp * std::sin(0.7 * ph + k * p[0]);
+    };
+}
 
 void pose(const Body &b, int f, std::vector<float> &fo, std::vector<double> &d) {
     const Mesh &M = b.mesh;
@@ -22,10 +37,9 @@ void pose(const Body &b, int f, std::vector<float> &fo, std::vector<double> &d) 
     d.resize(3 * n);
     double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, t[3] = {0, 0, 0};
     if (b.place) b.place(f, R, t);
-    const Warp &w = b.warp;
     for (size_t i = 0; i < n; i++) {
         double x[3] = {M.rest[3 * i], M.rest[3 * i + 1], M.rest[3 * i + 2]};
-        if (w.amp != 0) x[w.shift] += w.sign * w.amp * std::sin(0.35 * f + w.k * x[w.along]);
+        if (b.warp) b.warp(f, x);
         for (int r = 0; r < 3; r++) {
             double v = R[3 * r] * x[0] + R[3 * r + 1] * x[1] + R[3 * r + 2] * x[2] + t[r];
             fo[3 * i + r] = float(v);
@@ -34,199 +48,12 @@ void pose(const Body &b, int f, std::vector<float> &fo, std::vector<double> &d) 
     }
 }
 
-// ---- mesh helpers ------------------------------------------------------------------------
-
-static void bbox(const Mesh &M, double lo[3], double hi[3]) {
-    for (int k = 0; k < 3; k++) lo[k] = HUGE_VAL, hi[k] = -HUGE_VAL;
-    for (size_t i = 0; i < M.rest.size(); i++) {
-        lo[i % 3] = std::min(lo[i % 3], M.rest[i]);
-        hi[i % 3] = std::max(hi[i % 3], M.rest[i]);
-    }
-}
-static double diag(const Mesh &M) {
-    double lo[3], hi[3];
-    bbox(M, lo, hi);
-    return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                     (hi[2] - lo[2]) * (hi[2] - lo[2]));
+void Scene::frame(int f, Frame &out) const {
+    pose(A, f, out.a, out.ad);
+    pose(B, f, out.b, out.bd);
 }
 
-Mesh load_obj(const std::string &dir, const std::string &name) {
-    Mesh M = load_obj_path(dir + "/" + name + ".obj");
-    M.name = name;
-    return M;
-}
-
-Mesh load_obj_path(const std::string &path) {
-    GlcolObjMesh o;
-    std::string name = path.substr(path.find_last_of('/') + 1);
-    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".obj") == 0) name.resize(name.size() - 4);
-    if (glcol_obj_load(path.c_str(), &o) != GLCOL_STATUS_OK)
-        throw std::runtime_error("cannot read " + path + ": " + glcol_last_error_message());
-    Mesh M;
-    M.name = name;
-    M.rest.assign(o.positions, o.positions + 3 * o.vertex_count);
-    M.poly.assign(o.indices, o.indices + 3 * o.polygon_count);
-    M.vpp = 3;
-    glcol_obj_free(&o);
-    M.split_polygons();
-    return M;
-}
-
-// Faces [f0, f1) of M (0-based) as a mesh of their own.
-static Mesh sub_mesh(const Mesh &M, size_t f0, size_t f1, const std::string &name) {
-    Mesh S;
-    S.name = name;
-    S.vpp = M.vpp;
-    std::map<uint32_t, uint32_t> remap;
-    for (size_t p = f0; p < f1; p++)
-        for (uint32_t j = 0; j < M.vpp; j++) {
-            uint32_t v = M.poly[p * M.vpp + j];
-            auto it = remap.find(v);
-            if (it == remap.end()) {
-                it = remap.emplace(v, uint32_t(S.rest.size() / 3)).first;
-                S.rest.insert(S.rest.end(), {M.rest[3 * v], M.rest[3 * v + 1], M.rest[3 * v + 2]});
-            }
-            S.poly.push_back(it->second);
-        }
-    S.split_polygons();
-    return S;
-}
-
-// Builds a mesh from generated polygons, welding bit-identical positions.
-struct Builder {
-    Mesh m;
-    std::map<std::tuple<double, double, double>, uint32_t> at;
-    explicit Builder(const std::string &name, uint32_t vpp) {
-        m.name = name;
-        m.vpp = vpp;
-    }
-    uint32_t v(double x, double y, double z) {
-        auto k = std::make_tuple(x, y, z);
-        auto it = at.find(k);
-        if (it != at.end()) return it->second;
-        uint32_t i = uint32_t(m.rest.size() / 3);
-        m.rest.insert(m.rest.end(), {x, y, z});
-        at.emplace(k, i);
-        return i;
-    }
-    void tri(uint32_t a, uint32_t b, uint32_t c) { m.poly.insert(m.poly.end(), {a, b, c}); }
-    void quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
-        m.poly.insert(m.poly.end(), {a, b, c, d});
-    }
-    Mesh done() {
-        m.split_polygons();
-        return m;
-    }
-};
-
-using Fn = std::function<void(double u, double v, double out[3])>;
-
-// An n x n triangulated patch of the parametric surface fn over [0,1]^2.
-static void patch(Builder &b, int nu, int nv, const Fn &fn, bool flip = false) {
-    std::vector<uint32_t> id((nu + 1) * (nv + 1));
-    for (int j = 0; j <= nv; j++)
-        for (int i = 0; i <= nu; i++) {
-            double p[3];
-            fn(double(i) / nu, double(j) / nv, p);
-            id[j * (nu + 1) + i] = b.v(p[0], p[1], p[2]);
-        }
-    for (int j = 0; j < nv; j++)
-        for (int i = 0; i < nu; i++) {
-            uint32_t a = id[j * (nu + 1) + i], c = id[j * (nu + 1) + i + 1],
-                     d = id[(j + 1) * (nu + 1) + i + 1], e = id[(j + 1) * (nu + 1) + i];
-            if (b.m.vpp == 4) {
-                if (flip) b.quad(a, e, d, c); else b.quad(a, c, d, e);
-            } else if (flip) {
-                b.tri(a, d, c);
-                b.tri(a, e, d);
-            } else {
-                b.tri(a, c, d);
-                b.tri(a, d, e);
-            }
-        }
-}
-
-static Mesh grid(const std::string &name, int n, const Fn &fn) {
-    Builder b(name, 3);
-    patch(b, n, n, fn);
-    return b.done();
-}
-
-static Mesh icosphere(const std::string &name, int sub, double r) {
-    const double t = (1 + std::sqrt(5.0)) / 2;
-    std::vector<std::array<double, 3>> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                            {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                            {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<std::array<uint32_t, 3>> f = {
-        {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-        {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-        {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-    for (auto &p : v) {
-        double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        for (double &c : p) c /= l;
-    }
-    for (int s = 0; s < sub; s++) {
-        std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-        auto m = [&](uint32_t a, uint32_t b) {
-            auto k = std::minmax(a, b);
-            auto it = mid.find(k);
-            if (it != mid.end()) return it->second;
-            std::array<double, 3> p;
-            for (int i = 0; i < 3; i++) p[i] = v[a][i] + v[b][i];
-            double l = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-            for (double &c : p) c /= l;
-            v.push_back(p);
-            return mid[k] = uint32_t(v.size() - 1);
-        };
-        std::vector<std::array<uint32_t, 3>> g;
-        for (auto &q : f) {
-            uint32_t a = m(q[0], q[1]), b = m(q[1], q[2]), c = m(q[2], q[0]);
-            g.insert(g.end(), {{q[0], a, c}, {q[1], b, a}, {q[2], c, b}, {a, b, c}});
-        }
-        f = g;
-    }
-    Mesh M;
-    M.name = name;
-    for (auto &p : v) M.rest.insert(M.rest.end(), {p[0] * r, p[1] * r, p[2] * r});
-    for (auto &q : f) M.poly.insert(M.poly.end(), {q[0], q[1], q[2]});
-    M.split_polygons();
-    return M;
-}
-
-// Closed box [-lx/2,lx/2] x [-ly/2,ly/2] x [-lz/2,lz/2], each face an n x n grid, welded.
-static Mesh box(const std::string &name, double lx, double ly, double lz, int n) {
-    Builder b(name, 3);
-    double h[3] = {lx / 2, ly / 2, lz / 2};
-    for (int ax = 0; ax < 3; ax++)
-        for (int s = -1; s <= 1; s += 2) {
-            int u = (ax + 1) % 3, w = (ax + 2) % 3;
-            patch(b, n, n, [&](double a, double c, double o[3]) {
-                o[ax] = s * h[ax];
-                o[u] = (2 * a - 1) * h[u];
-                o[w] = (2 * c - 1) * h[w];
-            }, s < 0);
-        }
-    return b.done();
-}
-
-// Octahedron of radius r around c, turned by angle a about z.
-static Mesh octahedron(const std::string &name, const double c[3], double r, double a) {
-    Builder b(name, 3);
-    double ca = std::cos(a), sa = std::sin(a);
-    uint32_t eq[4];
-    for (int i = 0; i < 4; i++) {
-        double x = r * std::cos(i * PI / 2), y = r * std::sin(i * PI / 2);
-        eq[i] = b.v(c[0] + ca * x - sa * y, c[1] + sa * x + ca * y, c[2]);
-    }
-    uint32_t top = b.v(c[0], c[1], c[2] + r), bot = b.v(c[0], c[1], c[2] - r);
-    for (int i = 0; i < 4; i++) {
-        b.tri(eq[i], eq[(i + 1) % 4], top);
-        b.tri(eq[(i + 1) % 4], eq[i], bot);
-    }
-    return b.done();
-}
-
-// ---- scene definitions -------------------------------------------------------------------
+// ---- the cross-check's scenes ------------------------------------------------------------
 
 static void rot_to(const double d[3], double R[9]) {
     // Columns u, v, w with w = -d: local z points against d (into the organ).
@@ -240,23 +67,6 @@ static void rot_to(const double d[3], double R[9]) {
     for (int r = 0; r < 3; r++) R[3 * r] = u[r], R[3 * r + 1] = v[r], R[3 * r + 2] = w[r];
 }
 
-// The instrument centred on its box, its longest axis turned onto z, scaled to length L.
-static Mesh instrument_local(Mesh M, double L) {
-    double lo[3], hi[3];
-    bbox(M, lo, hi);
-    int ax = 0;
-    for (int k = 1; k < 3; k++)
-        if (hi[k] - lo[k] > hi[ax] - lo[ax]) ax = k;
-    double s = L / (hi[ax] - lo[ax]);
-    int perm[3] = {(ax + 1) % 3, (ax + 2) % 3, ax};
-    std::vector<double> r(M.rest.size());
-    for (size_t i = 0; i < M.nv(); i++)
-        for (int k = 0; k < 3; k++)
-            r[3 * i + k] = (M.rest[3 * i + perm[k]] - (lo[perm[k]] + hi[perm[k]]) / 2) * s;
-    M.rest = r;
-    return M;
-}
-
 Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3], int frames) {
     Scene S;
     S.kind = "instrument-organ";
@@ -266,14 +76,10 @@ Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3
     double l = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (double &c : d) c /= l;
     // The organ's vertex farthest along d lies on its convex hull: the instrument works there.
-    size_t far = 0;
-    for (size_t i = 1; i < organ.nv(); i++)
-        if (d[0] * organ.rest[3 * i] + d[1] * organ.rest[3 * i + 1] + d[2] * organ.rest[3 * i + 2] >
-            d[0] * organ.rest[3 * far] + d[1] * organ.rest[3 * far + 1] + d[2] * organ.rest[3 * far + 2])
-            far = i;
+    size_t far = farthest_vertex(organ, d);
     double p[3] = {organ.rest[3 * far], organ.rest[3 * far + 1], organ.rest[3 * far + 2]};
-    S.A.mesh = instrument_local(ins, L);
-    S.A.warp = {0.01 * L, 2 * PI * 2 / L, +1, 1, 2}; // bends along its length
+    S.A.mesh = instrument_local(ins, L, 2);
+    S.A.warp = axis_warp(0.01 * L, 2 * PI * 2 / L, +1, 1, 2); // bends along its length
     double R0[9];
     rot_to(d, R0);
     S.A.place = [=](int f, double R[9], double t[3]) {
@@ -286,7 +92,7 @@ Scene instrument_vs_organ(const Mesh &ins, const Mesh &organ, const double dir[3
         for (int k = 0; k < 3; k++) t[k] = p[k] + d[k] * off;
     };
     S.B.mesh = organ;
-    S.B.warp = {0.004 * D, 2 * PI * 3 / D, -1, 1, 0};
+    S.B.warp = axis_warp(0.004 * D, 2 * PI * 3 / D, -1, 1, 0);
     S.frames = frames;
     S.eps = float(1e-3 * L);
     return S;
@@ -299,8 +105,8 @@ Scene organ_vs_organ(const Mesh &a, const Mesh &b, int frames) {
     double D = std::max(diag(a), diag(b));
     S.A.mesh = a;
     S.B.mesh = b;
-    S.A.warp = {0.003 * D, 2 * PI * 3 / D, +1, 1, 0};
-    S.B.warp = {0.003 * D, 2 * PI * 3 / D, -1, 1, 0};
+    S.A.warp = axis_warp(0.003 * D, 2 * PI * 3 / D, +1, 1, 0);
+    S.B.warp = axis_warp(0.003 * D, 2 * PI * 3 / D, -1, 1, 0);
     S.frames = frames;
     S.eps = float(1e-3 * diag(a));
     return S;
@@ -312,14 +118,14 @@ static Scene hard(const std::string &name, Mesh a, Mesh b, double amp, double si
     S.name = name;
     S.A.mesh = std::move(a);
     S.B.mesh = std::move(b);
-    S.A.warp = {amp, 2 * PI, +1, 1, 0};
-    S.B.warp = {amp, 2 * PI, sign_b, 1, 0};
+    S.A.warp = axis_warp(amp, 2 * PI, +1, 1, 0);
+    S.B.warp = axis_warp(amp, 2 * PI, sign_b, 1, 0);
     S.frames = frames;
     S.eps = 1e-3f;
     return S;
 }
 
-std::vector<std::function<Scene()>> all_scenes(const std::string &dir, int frames_override) {
+std::vector<std::function<Scene()>> crosscheck_scenes(const std::string &dir, int frames_override) {
     std::vector<std::function<Scene()>> v;
     auto F = [frames_override](int n) { return frames_override > 0 ? frames_override : n; };
     const char *instruments[] = {"scissors_blade", "forceps_jaw", "dental_instrument"};
@@ -445,4 +251,151 @@ std::vector<std::function<Scene()>> all_scenes(const std::string &dir, int frame
     return v;
 }
 
-} // namespace xc
+// ---- the benchmark's scenes --------------------------------------------------------------
+
+// The instrument `ins` scaled to rel_len of the organ's extent, its long axis along x,
+// tilted, its tip at the organ's outermost +x vertex (the anchor). Per frame the organ warps
+// (0.2% of its extent), the instrument follows the anchor, pushed in by the depth (+-30%) and
+// sliding sideways. The depth is chosen by bisection so that the median number of colliding
+// pairs over a few frames is about `target` (the exact answer, counted with glcollide's CPU
+// backend).
+static Scene pushed_in(const std::string &name, const std::string &group, const Mesh &ins, const Mesh &organ,
+                       double rel_len, int target) {
+    Scene s;
+    s.name = name;
+    s.kind = "instrument-organ";
+    s.group = group;
+    s.B.mesh = organ;
+    s.extent = extent(organ);
+    s.B.warp = wave_warp(0.002 * s.extent, 6.0 / s.extent, 0.05);
+    const double plus_x[3] = {1, 0, 0};
+    size_t far = farthest_vertex(organ, plus_x);
+    std::array<double, 3> anchor = {organ.rest[3 * far], organ.rest[3 * far + 1], organ.rest[3 * far + 2]};
+    Mesh q = instrument_local(ins, rel_len * s.extent, 0);
+    double cz = std::cos(0.35), sz = std::sin(0.35), cy = std::cos(0.25), sy = std::sin(0.25);
+    std::vector<double> p(q.rest.size());
+    for (size_t i = 0; i < q.nv(); i++) {
+        const double *r = &q.rest[3 * i];
+        double x = cz * r[0] - sz * r[1], y = sz * r[0] + cz * r[1], z = r[2];
+        p[3 * i] = cy * x + sy * z;
+        p[3 * i + 1] = y;
+        p[3 * i + 2] = -sy * x + cy * z;
+    }
+    size_t tip = 0;
+    for (size_t i = 0; i < q.nv(); i++)
+        if (p[3 * i] < p[3 * tip]) tip = i;
+    double off[3] = {anchor[0] - p[3 * tip], anchor[1] - p[3 * tip + 1], anchor[2] - p[3 * tip + 2]};
+    for (size_t i = 0; i < p.size(); i++) q.rest[i] = float(p[i] + off[i % 3]);
+    s.A.mesh = std::move(q);
+    double slide = 0.01 * rel_len * s.extent;
+    Warp organ_warp = s.B.warp;
+    auto at = [=](double depth) -> Place {
+        return [=](int f, double *, double t[3]) {
+            double moved[3] = {anchor[0], anchor[1], anchor[2]};
+            organ_warp(f, moved);
+            double d = depth * (1.0 + 0.3 * std::sin(0.21 * f));
+            double sl = slide * std::sin(0.13 * f);
+            t[0] = moved[0] - anchor[0] - d;
+            t[1] = moved[1] - anchor[1] + sl;
+            t[2] = moved[2] - anchor[2] + 0.5 * sl;
+        };
+    };
+    // the depth
+    std::unique_ptr<Engine> e(make_glcol(GLCOL_BACKEND_CPU, 0.0f, 0));
+    Frame fr;
+    s.A.place = at(0);
+    s.frame(0, fr);
+    e->build(s.A.mesh, s.B.mesh, fr);
+    const int samples[] = {0, 7, 15, 23, 31};
+    std::vector<Key> out;
+    auto count = [&](double d) {
+        s.A.place = at(d);
+        std::vector<size_t> n;
+        for (int f : samples) {
+            s.frame(f, fr);
+            e->update(fr);
+            e->query(out);
+            n.push_back(out.size());
+        }
+        std::sort(n.begin(), n.end());
+        return n[n.size() / 2];
+    };
+    double lo[3], hi[3];
+    bbox(s.A.mesh, lo, hi);
+    double dlo = 0, dhi = 0.5 * (hi[0] - lo[0]);
+    for (int it = 0; it < 18; it++) {
+        double d = 0.5 * (dlo + dhi);
+        if (count(d) >= size_t(target)) dhi = d;
+        else dlo = d;
+    }
+    s.depth = dhi;
+    s.A.place = at(dhi);
+    char buf[160];
+    snprintf(buf, sizeof buf, "instrument scaled to %.0f%% of the organ's extent, pushed in at the organ's +x extreme",
+             rel_len * 100);
+    s.how = buf;
+    return s;
+}
+
+// Two organs at rest in their shared frame, opposite warps (0.4% of the scene's extent).
+static Scene heavy(const std::string &name, const Mesh &a, const Mesh &b) {
+    Scene s;
+    s.name = name;
+    s.kind = "organ-organ";
+    s.group = "heavy";
+    s.A.mesh = a;
+    s.B.mesh = b;
+    double la[3], ha[3], lb[3], hb[3];
+    bbox(a, la, ha);
+    bbox(b, lb, hb);
+    for (int k = 0; k < 3; k++) s.extent = std::max(s.extent, std::max(ha[k], hb[k]) - std::min(la[k], lb[k]));
+    double amp = 0.004 * s.extent, k = 8.0 / s.extent;
+    s.A.warp = wave_warp(amp, k, 0.1);
+    s.B.warp = wave_warp(-amp, k, 0.1);
+    s.how = "both at rest in their shared CT frame (they overlap), opposite warps";
+    return s;
+}
+
+std::vector<Scene> bench_scenes(const std::string &dir, const std::string &only, bool quick) {
+    auto M = [&](const char *n) { return load_obj(dir, n); };
+    std::vector<Scene> scenes;
+    Mesh blade = M("scissors_blade"), jaw = M("forceps_jaw");
+    auto add_instrument = [&](const std::string &name, const std::string &group, const Mesh &ins, const Mesh &organ,
+                              const std::string &how) {
+        if (!only.empty() && name.find(only) == std::string::npos) return;
+        Scene s = pushed_in(name, group, ins, organ, 0.12, 12);
+        s.how = how + "; " + s.how;
+        scenes.push_back(std::move(s));
+    };
+    std::string how;
+    {
+        Mesh face = M("face");
+        Mesh f12 = decimate(face, 1252, &how);
+        add_instrument("blade_vs_face1k", "paper", blade, f12, "face.obj " + how);
+    }
+    add_instrument("blade_vs_teapot4k", "paper", blade, M("teapot"), "teapot.obj as is");
+    Mesh gall = M("gallbladder_glt");
+    add_instrument("blade_vs_gallbladder15k", "paper", blade, gall,
+                   "gallbladder_glt.obj as is (stands for the airways, 14,436)");
+    if (!quick) {
+        Mesh c32 = decimate(M("colon_100k"), 32375, &how);
+        add_instrument("blade_vs_colon32k", "paper", blade, c32, "colon_100k.obj " + how);
+        Mesh s52 = decimate(M("spine_pelvis"), 51910, &how);
+        std::string h52 = "spine_pelvis.obj " + how;
+        add_instrument("blade_vs_spine52k", "paper", blade, s52, h52);
+        add_instrument("jaw_vs_spine52k", "instrument", jaw, s52, h52);
+        Mesh g = gall;
+        const char *names[] = {"blade_vs_gallbladder59k", "blade_vs_gallbladder235k", "blade_vs_gallbladder941k"};
+        for (int k = 0; k < 3; k++) {
+            g = subdivide(g);
+            add_instrument(names[k], "scaling", blade, g,
+                           "gallbladder_glt.obj, midpoint subdivision x" + std::to_string(k + 1) + " (" +
+                               std::to_string(g.ntri()) + " triangles)");
+        }
+    }
+    if (only.empty() || std::string("colon_vs_small_intestine").find(only) != std::string::npos)
+        scenes.push_back(heavy("colon_vs_small_intestine", M("colon"), M("small_intestine")));
+    return scenes;
+}
+
+} // namespace peers
