@@ -7,7 +7,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Once;
 
 use super::types::GlcolStatus;
-use crate::error::{Error, ErrorKind};
+use crate::error::Error;
 
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
@@ -54,23 +54,14 @@ fn guarded<T>(f: impl FnOnce() -> T) -> std::thread::Result<T> {
 #[derive(Debug)]
 pub struct Fail(pub GlcolStatus, pub String);
 
+/// A core error fails with its kind's status (the mapping is generated in `tables.rs`).
 impl From<Error> for Fail {
     fn from(e: Error) -> Fail {
-        let s = match e.kind {
-            ErrorKind::InvalidArgument => GlcolStatus::InvalidArgument,
-            ErrorKind::NonFinite => GlcolStatus::NonFinite,
-            ErrorKind::IndexOutOfRange => GlcolStatus::IndexOutOfRange,
-            ErrorKind::UnknownMesh => GlcolStatus::UnknownMesh,
-            ErrorKind::GlUnavailable => GlcolStatus::GlUnavailable,
-            ErrorKind::GlError => GlcolStatus::GlError,
-            ErrorKind::Unsupported => GlcolStatus::Unsupported,
-            ErrorKind::OutOfMemory => GlcolStatus::OutOfMemory,
-            ErrorKind::Internal => GlcolStatus::Internal,
-        };
-        Fail(s, e.message)
+        Fail(GlcolStatus::from(e.kind), e.message)
     }
 }
 
+/// What a guarded body returns.
 pub type FfiResult = Result<(), Fail>;
 
 /// `Err(NULL_POINTER)` naming `what` when `p` is NULL.
@@ -82,6 +73,7 @@ pub fn non_null<T>(p: *const T, what: &str) -> FfiResult {
     }
 }
 
+/// `INVALID_ARGUMENT` with `msg`.
 pub fn invalid(msg: impl Into<String>) -> Fail {
     Fail(GlcolStatus::InvalidArgument, msg.into())
 }
@@ -114,6 +106,7 @@ pub fn guard_or<T>(default: T, f: impl FnOnce() -> T) -> T {
     guarded(f).unwrap_or(default)
 }
 
+/// Keeps `msg` as this thread's last error message (a NUL in it becomes a space).
 pub fn set_last_error(msg: &str) {
     let c = CString::new(msg.replace('\0', " ")).unwrap_or_default();
     // try_with / try_borrow_mut: this path must never panic (thread teardown, reentrancy).
@@ -139,6 +132,7 @@ pub fn last_error_ptr() -> *const c_char {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::ErrorKind;
     use std::ffi::CStr;
 
     #[test]

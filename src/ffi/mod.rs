@@ -5,6 +5,7 @@
 #![allow(clippy::missing_safety_doc)]
 
 mod guard;
+mod tables;
 mod types;
 
 use std::ffi::{c_char, CStr};
@@ -12,7 +13,6 @@ use std::ffi::{c_char, CStr};
 use guard::{guard, guard_or, invalid, non_null, Fail, FfiResult};
 pub use types::*;
 
-use crate::backend::{Backend, Request};
 use crate::mesh::Positions;
 use crate::scene::{Scene, SceneConfig};
 
@@ -84,21 +84,9 @@ unsafe fn positions<'a>(p: *const f32, count: usize, stride: usize) -> Result<Po
 /// ("GLCOL_STATUS_UNKNOWN" for values not in the enum).
 #[no_mangle]
 pub extern "C" fn glcol_status_name(s: raw::GlcolStatus) -> *const c_char {
-    let name: &'static [u8] = match s {
-        0 => b"GLCOL_STATUS_OK\0",
-        1 => b"GLCOL_STATUS_NULL_POINTER\0",
-        2 => b"GLCOL_STATUS_INVALID_ARGUMENT\0",
-        3 => b"GLCOL_STATUS_NON_FINITE\0",
-        4 => b"GLCOL_STATUS_INDEX_OUT_OF_RANGE\0",
-        5 => b"GLCOL_STATUS_UNKNOWN_MESH\0",
-        6 => b"GLCOL_STATUS_GL_UNAVAILABLE\0",
-        7 => b"GLCOL_STATUS_GL_ERROR\0",
-        8 => b"GLCOL_STATUS_UNSUPPORTED\0",
-        9 => b"GLCOL_STATUS_OUT_OF_MEMORY\0",
-        10 => b"GLCOL_STATUS_INTERNAL\0",
-        _ => b"GLCOL_STATUS_UNKNOWN\0",
-    };
-    name.as_ptr().cast()
+    GlcolStatus::from_raw(s)
+        .map_or(c"GLCOL_STATUS_UNKNOWN", GlcolStatus::name)
+        .as_ptr()
 }
 
 /// Human-readable detail of the last failing call on this thread ("" if none). The
@@ -196,17 +184,13 @@ pub unsafe extern "C" fn glcol_scene_create(
             "GlcolSceneDesc",
         )?;
         let d = desc.read();
-        let request = match d.backend {
-            0 => Request::Auto,
-            1 => Request::Cpu,
-            2 => Request::GlSelect,
-            3 => Request::GlCompute,
-            v => {
-                return Err(invalid(format!(
-                    "backend is {v}; it must be a GlcolBackend value (0 to 3)"
-                )))
-            }
-        };
+        let request = GlcolBackend::request(d.backend).ok_or_else(|| {
+            invalid(format!(
+                "backend is {}; it must be a GlcolBackend value (0 to {})",
+                d.backend,
+                GlcolBackend::max_value()
+            ))
+        })?;
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
@@ -244,11 +228,7 @@ pub unsafe extern "C" fn glcol_scene_backend(
     guard(|| {
         non_null(scene, "scene")?;
         non_null(out, "out")?;
-        let b = match (*scene).scene.backend() {
-            Backend::Cpu => GlcolBackend::Cpu,
-            Backend::GlSelect => GlcolBackend::GlSelect,
-            Backend::GlCompute => GlcolBackend::GlCompute,
-        };
+        let b = GlcolBackend::from((*scene).scene.backend());
         out.write(b as u32);
         Ok(())
     })
