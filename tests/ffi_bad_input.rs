@@ -537,7 +537,7 @@ fn updates_are_rejected_whole() {
             "stride",
         );
     }
-    let raw = vec![0u8; 64];
+    let raw = [0u8; 64];
     let odd = raw
         .as_ptr()
         .wrapping_add(if raw.as_ptr() as usize % 4 == 0 { 2 } else { 1 });
@@ -889,4 +889,54 @@ fn the_scene_stays_usable_after_a_storm_of_bad_calls() {
     f.scene.set_enabled(extra, false);
     assert!(f.scene.query(extra).is_empty());
     assert!(f.scene.query(f.ids[0]).iter().all(|h| h.0 != extra));
+}
+
+/// A copy of `value`'s bytes at an address 4 bytes past an 8-byte boundary, in `buf`: a
+/// pointer no C compiler would make for an 8-aligned struct.
+fn misaligned_copy<T: Copy>(value: &T, buf: &mut Vec<u64>) -> *const T {
+    let size = std::mem::size_of::<T>();
+    assert!(std::mem::align_of::<T>() == 8, "the structs hold pointers");
+    buf.clear();
+    buf.resize(size / 8 + 2, 0);
+    let at = buf.as_mut_ptr().cast::<u8>().wrapping_add(4);
+    // SAFETY: `buf` holds size + 16 bytes, so size bytes fit from offset 4; byte copies
+    // need no alignment.
+    unsafe { std::ptr::copy_nonoverlapping((value as *const T).cast::<u8>(), at, size) };
+    at.cast()
+}
+
+/// Regression ("struct_size read unaligned but the struct aligned"): a desc is read with
+/// aligned reads only, its struct_size first; a misaligned desc pointer (which C never
+/// makes) is refused before anything is read, naming `desc`, and changes nothing.
+#[test]
+fn a_misaligned_desc_is_refused_before_anything_is_read() {
+    let mut buf = Vec::new();
+    let sentinel = 0x1234usize as *mut GlcolScene;
+    let mut out = sentinel;
+    let d = misaligned_copy(&scene_desc(), &mut buf);
+    let st = unsafe { glcol_scene_create(d, &mut out) };
+    let msg = last_error();
+    assert_eq!(st, S::InvalidArgument, "{msg}");
+    assert!(msg.contains("desc is not 8-byte aligned"), "{msg}");
+    assert_eq!(out, sentinel, "a failed create wrote *out_scene");
+
+    let mut f = Fixture::new();
+    let good = mesh_desc(&f.meshes[0]);
+    let d = misaligned_copy(&good, &mut buf);
+    let mut id = SENTINEL_ID;
+    let st = unsafe { glcol_mesh_create(f.s(), d, &mut id) };
+    f.expect(
+        "misaligned mesh desc",
+        st,
+        S::InvalidArgument,
+        "desc is not 8-byte aligned",
+    );
+    assert_eq!(id, SENTINEL_ID);
+    // The same bytes, aligned, make a mesh: only the address was wrong.
+    let aligned: GlcolMeshDesc = unsafe { d.read_unaligned() };
+    ok(
+        unsafe { glcol_mesh_create(f.s(), &aligned, &mut id) },
+        "the aligned copy",
+    );
+    f.scene.destroy(id);
 }

@@ -135,14 +135,20 @@ mod tests {
     use crate::error::ErrorKind;
     use std::ffi::CStr;
 
+    fn last_error() -> String {
+        // SAFETY: last_error_ptr is never NULL and points to this thread's NUL-terminated
+        // message, unchanged while it is read here.
+        unsafe { CStr::from_ptr(last_error_ptr()) }
+            .to_str()
+            .unwrap()
+            .to_owned()
+    }
+
     #[test]
     fn panics_become_internal_with_message() {
         let s = guard(|| panic!("boom {}", 42));
         assert_eq!(s, GlcolStatus::Internal);
-        let msg = unsafe { CStr::from_ptr(last_error_ptr()) }
-            .to_str()
-            .unwrap()
-            .to_owned();
+        let msg = last_error();
         assert!(
             msg.contains("boom 42") && msg.contains("guard.rs:"),
             "{msg}"
@@ -154,10 +160,7 @@ mod tests {
     fn errors_keep_their_status_and_message() {
         let s = guard(|| Err(Error::new(ErrorKind::NonFinite, "vertex 3 is NaN").into()));
         assert_eq!(s, GlcolStatus::NonFinite);
-        let msg = unsafe { CStr::from_ptr(last_error_ptr()) }
-            .to_str()
-            .unwrap()
-            .to_owned();
+        let msg = last_error();
         assert_eq!(msg, "vertex 3 is NaN");
         assert_eq!(guard(|| Ok(())), GlcolStatus::Ok);
     }
