@@ -151,6 +151,16 @@ int main(void) {
     bad = md;
     bad.polygon_count = SIZE_MAX / 2;
     expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "overflow", "mesh_create(polygon overflow)");
+#if SIZE_MAX > UINT32_MAX
+    /* The vertex limit, 2^32 - 1: one above is refused as a count; at the limit the count
+       passes and the bad stride checked next is what is refused (no array is read). */
+    bad = md;
+    bad.vertex_count = (size_t)UINT32_MAX + 1;
+    bad.position_stride = 4;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "vertex_count", "mesh_create(2^32 vertices)");
+    bad.vertex_count = UINT32_MAX;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "position_stride", "mesh_create(2^32 - 1 vertices)");
+#endif
     uint32_t oob[6] = {0, 1, 2, 0, 2, 9};
     bad = md;
     bad.indices = oob;

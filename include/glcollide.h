@@ -244,9 +244,10 @@ enum GlcolStatus glcol_scene_backend(const struct GlcolScene *scene, enum GlcolB
 // `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
 // desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
 // alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
-// Counts above 2^32 - 1 vertices or 2^32 - 2 polygons, or whose byte size overflows, are
-// refused before the arrays are read. Arrays shorter than the counts say, or dangling
-// pointers, cannot be detected (undefined behaviour).
+// Counts above 2^32 - 1 vertices or 2^32 - 2 polygon corners (polygon_count times
+// vertices_per_polygon), or whose byte size overflows, are refused before the arrays are
+// read. Arrays shorter than the counts say, or dangling pointers, cannot be detected
+// (undefined behaviour).
 //
 // # Safety
 // `scene` is NULL or a live scene. `desc` is NULL or points to a readable `GlcolMeshDesc`

@@ -17,7 +17,7 @@ use std::ffi::{c_char, CStr};
 use guard::{guard, guard_or, invalid, non_null, Fail, FfiResult};
 pub use types::*;
 
-use crate::mesh::Positions;
+use crate::mesh::{check_polygon_count, check_vertex_count, Positions};
 use crate::scene::{Scene, SceneConfig};
 
 /// ABI version: bumps on any incompatible change of the C API (and with it the soname).
@@ -331,9 +331,10 @@ pub unsafe extern "C" fn glcol_scene_backend(
 /// `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
 /// desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
 /// alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
-/// Counts above 2^32 - 1 vertices or 2^32 - 2 polygons, or whose byte size overflows, are
-/// refused before the arrays are read. Arrays shorter than the counts say, or dangling
-/// pointers, cannot be detected (undefined behaviour).
+/// Counts above 2^32 - 1 vertices or 2^32 - 2 polygon corners (polygon_count times
+/// vertices_per_polygon), or whose byte size overflows, are refused before the arrays are
+/// read. Arrays shorter than the counts say, or dangling pointers, cannot be detected
+/// (undefined behaviour).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene. `desc` is NULL or points to a readable `GlcolMeshDesc`
@@ -373,19 +374,10 @@ pub unsafe extern "C" fn glcol_mesh_create(
         if d.polygon_count == 0 {
             return Err(invalid("polygon_count is 0"));
         }
-        // Counts the library cannot number are refused before any array is touched.
-        if d.vertex_count > u32::MAX as usize {
-            return Err(invalid(format!(
-                "vertex_count {} overflows the 32-bit vertex numbers (at most 2^32 - 1)",
-                d.vertex_count
-            )));
-        }
-        if d.polygon_count > u32::MAX as usize - 1 {
-            return Err(invalid(format!(
-                "polygon_count {} overflows the 32-bit polygon numbers (at most 2^32 - 2)",
-                d.polygon_count
-            )));
-        }
+        // Counts the library cannot number are refused before any array is touched, by the
+        // checks Mesh::new makes.
+        check_vertex_count(d.vertex_count)?;
+        check_polygon_count(d.polygon_count, k as usize)?;
         // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
         // `position_stride` apart.
         let pos = unsafe { positions(d.positions, d.vertex_count, d.position_stride) }?;
