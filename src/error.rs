@@ -4,6 +4,7 @@
 //! other module that needs one item per kind (the C API's status mapping) derives it from
 //! the same list, so no second list can drift from this one.
 
+use std::collections::TryReserveError;
 use std::fmt;
 
 /// The one list of error kinds. `with_error_kinds!(m)` expands to
@@ -28,7 +29,8 @@ macro_rules! with_error_kinds {
             GlError,
             /// A valid request this build, backend or context cannot do.
             Unsupported,
-            /// An allocation failed.
+            /// An allocation failed (recognised where it is made, by type: a failed
+            /// `try_reserve`).
             OutOfMemory,
             /// A bug: a caught panic or a broken internal rule.
             Internal,
@@ -76,6 +78,19 @@ impl Error {
     pub fn invalid(message: impl Into<String>) -> Error {
         Error::new(ErrorKind::InvalidArgument, message)
     }
+
+    /// An [`ErrorKind::OutOfMemory`] error for a failed reservation of room for `what`.
+    pub fn out_of_memory(what: &str, cause: TryReserveError) -> Error {
+        Error::new(ErrorKind::OutOfMemory, format!("{what}: {cause}"))
+    }
+}
+
+/// Reserves room for `additional` more items in `v`; a failed allocation (or a capacity
+/// past what a `Vec` can hold) is an [`ErrorKind::OutOfMemory`] error naming `what`, where
+/// `Vec`'s own growth would abort the process.
+pub(crate) fn try_reserve<T>(v: &mut Vec<T>, additional: usize, what: &str) -> Result<()> {
+    v.try_reserve(additional)
+        .map_err(|e| Error::out_of_memory(what, e))
 }
 
 impl fmt::Display for Error {
@@ -88,3 +103,24 @@ impl std::error::Error for Error {}
 
 /// A result whose error is [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_reservation_is_out_of_memory_by_type() {
+        let mut v: Vec<u64> = Vec::new();
+        let e = try_reserve(&mut v, usize::MAX, "the contacts").unwrap_err();
+        assert_eq!(e.kind, ErrorKind::OutOfMemory);
+        assert!(e.message.starts_with("the contacts: "), "{}", e.message);
+        assert!(v.capacity() == 0);
+        // A size the allocator refuses (not only a capacity overflow).
+        let mut bytes: Vec<u8> = Vec::new();
+        let e = try_reserve(&mut bytes, isize::MAX as usize, "the positions").unwrap_err();
+        assert_eq!(e.kind, ErrorKind::OutOfMemory);
+        assert!(e.message.starts_with("the positions: "), "{}", e.message);
+        try_reserve(&mut v, 16, "the contacts").unwrap();
+        assert!(v.capacity() >= 16);
+    }
+}

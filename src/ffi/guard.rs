@@ -132,7 +132,7 @@ pub fn last_error_ptr() -> *const c_char {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::error::ErrorKind;
+    use crate::error::{try_reserve, ErrorKind};
     use std::ffi::CStr;
 
     fn last_error() -> String {
@@ -163,5 +163,26 @@ mod tests {
         let msg = last_error();
         assert_eq!(msg, "vertex 3 is NaN");
         assert_eq!(guard(|| Ok(())), GlcolStatus::Ok);
+    }
+
+    /// Out-of-memory is recognised by the error's type where the allocation fails (a
+    /// failed `try_reserve`), and the boundary answers OUT_OF_MEMORY for its kind; a message
+    /// that merely mentions memory does not make an error out-of-memory.
+    #[test]
+    fn a_failed_allocation_is_out_of_memory_by_kind_not_by_text() {
+        let s = guard(|| {
+            let mut v: Vec<u64> = Vec::new();
+            try_reserve(&mut v, usize::MAX / 4, "the query's contacts")?;
+            Ok(())
+        });
+        assert_eq!(s, GlcolStatus::OutOfMemory);
+        assert!(
+            last_error().starts_with("the query's contacts: "),
+            "{}",
+            last_error()
+        );
+        let s =
+            guard(|| Err(Error::new(ErrorKind::GlError, "GL_OUT_OF_MEMORY during a draw").into()));
+        assert_eq!(s, GlcolStatus::GlError);
     }
 }

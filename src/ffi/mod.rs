@@ -17,6 +17,7 @@ use std::ffi::{c_char, CStr};
 use guard::{guard, guard_or, invalid, non_null, Fail, FfiResult};
 pub use types::*;
 
+use crate::error::try_reserve;
 use crate::mesh::{check_polygon_count, check_vertex_count, Positions};
 use crate::scene::{Scene, SceneConfig};
 
@@ -501,6 +502,9 @@ pub unsafe extern "C" fn glcol_query(
         non_null(out_contacts, "out_contacts")?;
         non_null(out_count, "out_count")?;
         let found = s.scene.query(reference)?;
+        // Room first: a failed allocation leaves the last answer's array as it was.
+        let more = found.len().saturating_sub(s.contacts.len());
+        try_reserve(&mut s.contacts, more, "the query's contacts")?;
         s.contacts.clear();
         s.contacts.extend(found.iter().map(|c| GlcolContact {
             reference_polygon: c.reference_polygon,
@@ -566,7 +570,14 @@ pub unsafe extern "C" fn glcol_obj_load(
             .to_str()
             .map_err(|_| invalid("path is not UTF-8"))?;
         let m = crate::obj::load(p)?;
-        let positions: Box<[f32]> = m.positions.into_iter().flatten().collect();
+        let mut positions = Vec::new();
+        try_reserve(
+            &mut positions,
+            3 * m.positions.len(),
+            "the OBJ file's positions",
+        )?;
+        positions.extend(m.positions.into_iter().flatten());
+        let positions = positions.into_boxed_slice();
         let indices: Box<[u32]> = m.triangles.into_boxed_slice();
         let (vc, pc) = (positions.len() / 3, indices.len() / 3);
         let mesh = GlcolObjMesh {
