@@ -151,9 +151,11 @@ typedef struct GlcolContact {
 typedef struct GlcolObjMesh {
   // x, y, z per vertex.
   float *positions;
+  // Number of vertices (`positions` holds 3 times as many floats).
   size_t vertex_count;
   // Three 0-based vertex indices per triangle.
   uint32_t *indices;
+  // Number of triangles (`indices` holds 3 times as many values).
   size_t polygon_count;
   // Always 3 (larger faces are split into fans).
   uint32_t vertices_per_polygon;

@@ -67,7 +67,9 @@ pub type GlcolGetProcAddress = Option<
 /// the enum names.
 /// cbindgen:ignore
 pub mod raw {
+    /// A `GlcolStatus` value as C passes it (checked before use).
     pub type GlcolStatus = u32;
+    /// A `GlcolBackend` value as C passes it (checked before use).
     pub type GlcolBackend = u32;
 }
 
@@ -137,9 +139,11 @@ pub struct GlcolContact {
 pub struct GlcolObjMesh {
     /// x, y, z per vertex.
     pub positions: *mut f32,
+    /// Number of vertices (`positions` holds 3 times as many floats).
     pub vertex_count: usize,
     /// Three 0-based vertex indices per triangle.
     pub indices: *mut u32,
+    /// Number of triangles (`indices` holds 3 times as many values).
     pub polygon_count: usize,
     /// Always 3 (larger faces are split into fans).
     pub vertices_per_polygon: u32,
