@@ -29,8 +29,8 @@ macro_rules! with_error_kinds {
             GlError,
             /// A valid request this build, backend or context cannot do.
             Unsupported,
-            /// An allocation failed (recognised where it is made, by type: a failed
-            /// `try_reserve`).
+            /// An allocation failed (told where it is made, by type or code: a failed
+            /// `try_reserve`, or GL_OUT_OF_MEMORY after a GL allocation).
             OutOfMemory,
             /// A bug: a caught panic or a broken internal rule.
             Internal,
