@@ -1,5 +1,5 @@
 //! The C ABI: the only `extern "C"` code. Each function checks its pointers, runs its body
-//! in [`guard::guard`] (errors become a status and a thread-local message, panics become
+//! in `guard::guard` (errors become a status and a thread-local message, panics become
 //! `GLCOL_STATUS_INTERNAL`), and writes its outputs only on success.
 //!
 //! Every `unsafe` operation is in an `unsafe` block with a `// SAFETY:` comment saying
