@@ -25,6 +25,25 @@ static void expect(GlcolStatus got, GlcolStatus want, const char *needle, const 
     }
 }
 
+/* Every status with its name as the header spells it: glcol_status_name must answer it. */
+#define STATUS(s) {s, #s}
+static const struct {
+    GlcolStatus status;
+    const char *name;
+} status_names[] = {
+    STATUS(GLCOL_STATUS_OK),
+    STATUS(GLCOL_STATUS_NULL_POINTER),
+    STATUS(GLCOL_STATUS_INVALID_ARGUMENT),
+    STATUS(GLCOL_STATUS_NON_FINITE),
+    STATUS(GLCOL_STATUS_INDEX_OUT_OF_RANGE),
+    STATUS(GLCOL_STATUS_UNKNOWN_MESH),
+    STATUS(GLCOL_STATUS_GL_UNAVAILABLE),
+    STATUS(GLCOL_STATUS_GL_ERROR),
+    STATUS(GLCOL_STATUS_UNSUPPORTED),
+    STATUS(GLCOL_STATUS_OUT_OF_MEMORY),
+    STATUS(GLCOL_STATUS_INTERNAL),
+};
+
 /* Two unit quads (as 2 triangles each) crossing each other: 4 vertices per quad. */
 static float pa[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
 static float pb[12] = {0.5f, 0.5f, -1, 0.5f, 0.5f, 1, 0.5f, -0.5f, 1, 0.5f, -0.5f, -1};
@@ -132,6 +151,16 @@ int main(void) {
     bad = md;
     bad.polygon_count = SIZE_MAX / 2;
     expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "overflow", "mesh_create(polygon overflow)");
+#if SIZE_MAX > UINT32_MAX
+    /* The vertex limit, 2^32 - 1: one above is refused as a count; at the limit the count
+       passes and the bad stride checked next is what is refused (no array is read). */
+    bad = md;
+    bad.vertex_count = (size_t)UINT32_MAX + 1;
+    bad.position_stride = 4;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "vertex_count", "mesh_create(2^32 vertices)");
+    bad.vertex_count = UINT32_MAX;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "position_stride", "mesh_create(2^32 - 1 vertices)");
+#endif
     uint32_t oob[6] = {0, 1, 2, 0, 2, 9};
     bad = md;
     bad.indices = oob;
@@ -191,6 +220,16 @@ int main(void) {
     if (n != n0) {
         printf("FAIL re-created mesh gives %zu contacts, not %zu\n", n, n0);
         failures++;
+    }
+    /* Each status's name is the header's identifier. */
+    for (int i = 0; i < (int)(sizeof status_names / sizeof *status_names); i++) {
+        checks++;
+        const char *got = glcol_status_name(status_names[i].status);
+        if (!got || strcmp(got, status_names[i].name) != 0) {
+            printf("FAIL status_name(%d) is %s, not %s\n", (int)status_names[i].status, got ? got : "NULL",
+                   status_names[i].name);
+            failures++;
+        }
     }
     const char *unknown = glcol_status_name((GlcolStatus)99);
     if (!unknown || strcmp(unknown, "GLCOL_STATUS_UNKNOWN") != 0) {

@@ -82,6 +82,11 @@ typedef enum GlcolBackend {
 // their counts and stride say (positions, indices); a contacts array read after the next
 // non-const call on its scene. (Mesh ids are unique in the process, so an id made by
 // another scene, or destroyed, is always detected: GLCOL_STATUS_UNKNOWN_MESH.)
+//
+// A "live scene", in the functions' Safety sections: a pointer made by
+// `glcol_scene_create`, not yet given to `glcol_scene_destroy`, used by no other thread
+// during the call, and, for a GL-backed scene, with its context (or one sharing its
+// objects) current on the calling thread.
 typedef struct GlcolScene GlcolScene;
 
 // Loads a GL entry point by name for the context current on the calling thread (like
@@ -146,9 +151,11 @@ typedef struct GlcolContact {
 typedef struct GlcolObjMesh {
   // x, y, z per vertex.
   float *positions;
+  // Number of vertices (`positions` holds 3 times as many floats).
   size_t vertex_count;
   // Three 0-based vertex indices per triangle.
   uint32_t *indices;
+  // Number of triangles (`indices` holds 3 times as many values).
   size_t polygon_count;
   // Always 3 (larger faces are split into fans).
   uint32_t vertices_per_polygon;
@@ -174,10 +181,16 @@ const char *glcol_version(void);
 
 // Fills every field of `desc` with its default: struct_size, GLCOL_BACKEND_AUTO, no
 // loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of thumb). NULL is ignored.
+//
+// # Safety
+// `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
 void glcol_scene_desc_init(struct GlcolSceneDesc *desc);
 
 // Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
 // vertices_per_polygon 3). NULL is ignored.
+//
+// # Safety
+// `desc` is NULL or points to a writable, aligned `GlcolMeshDesc`.
 void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 
 // Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
@@ -205,6 +218,12 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 //   CPU backend's test at `epsilon`, so the contacts are the CPU backend's, exact at
 //   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
 //   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
+//
+// # Safety
+// `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,
+// aligned as C aligns it (a misaligned `desc` is refused: INVALID_ARGUMENT). `out_scene` is
+// NULL or writable and aligned. A non-NULL `get_proc_address` is a loader for the context
+// current on this thread, callable with `user_data`.
 enum GlcolStatus glcol_scene_create(const struct GlcolSceneDesc *desc,
                                     struct GlcolScene **out_scene);
 
@@ -212,18 +231,32 @@ enum GlcolStatus glcol_scene_create(const struct GlcolSceneDesc *desc,
 // objects, so the scene's context (or one sharing its objects) must be current; the
 // host's GL state is left as it was. Using the pointer afterwards is undefined (not
 // detectable).
+//
+// # Safety
+// `scene` is NULL or a live scene (see GlcolScene).
 void glcol_scene_destroy(struct GlcolScene *scene);
 
 // The backend the scene runs on (what AUTO chose).
+//
+// # Safety
+// `scene` is NULL or a live scene; `out` is NULL or writable and aligned.
 enum GlcolStatus glcol_scene_backend(const struct GlcolScene *scene, enum GlcolBackend *out);
 
 // Adds a mesh: positions and indices are copied, the leaf boxes built. On success
 // `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
 // desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
 // alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
-// Counts above 2^32 - 1 vertices or 2^32 - 2 polygons, or whose byte size overflows, are
-// refused before the arrays are read. Arrays shorter than the counts say, or dangling
-// pointers, cannot be detected (undefined behaviour).
+// Counts above 2^32 - 1 vertices or 2^32 - 2 polygon corners (polygon_count times
+// vertices_per_polygon), or whose byte size overflows, are refused before the arrays are
+// read. Arrays shorter than the counts say, or dangling pointers, cannot be detected
+// (undefined behaviour).
+//
+// # Safety
+// `scene` is NULL or a live scene. `desc` is NULL or points to a readable `GlcolMeshDesc`
+// of `desc->struct_size` bytes, aligned as C aligns it (a misaligned `desc` is refused:
+// INVALID_ARGUMENT), whose `positions` is NULL or readable for `vertex_count` vertices
+// `position_stride` bytes apart and whose `indices` is NULL or readable for
+// `polygon_count * vertices_per_polygon` values. `out_id` is NULL or writable and aligned.
 enum GlcolStatus glcol_mesh_create(struct GlcolScene *scene,
                                    const struct GlcolMeshDesc *desc,
                                    GlcolMeshId *out_id);
@@ -235,6 +268,10 @@ enum GlcolStatus glcol_mesh_create(struct GlcolScene *scene,
 // NON_FINITE. The range is checked against the mesh before the array is read; an array
 // shorter than `vertex_count` vertices `position_stride` apart cannot be detected
 // (undefined behaviour).
+//
+// # Safety
+// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+// vertices `position_stride` bytes apart.
 enum GlcolStatus glcol_mesh_update_positions(struct GlcolScene *scene,
                                              GlcolMeshId mesh,
                                              const float *positions,
@@ -244,9 +281,15 @@ enum GlcolStatus glcol_mesh_update_positions(struct GlcolScene *scene,
 
 // Enables or disables a mesh. A disabled mesh costs nothing in a query and has no
 // contacts (as reference or as other).
+//
+// # Safety
+// `scene` is NULL or a live scene.
 enum GlcolStatus glcol_mesh_set_enabled(struct GlcolScene *scene, GlcolMeshId mesh, bool enabled);
 
 // Removes a mesh from the scene. Its id is never reused.
+//
+// # Safety
+// `scene` is NULL or a live scene.
 enum GlcolStatus glcol_mesh_destroy(struct GlcolScene *scene, GlcolMeshId mesh);
 
 // Collides `reference` against every other enabled mesh (the paper's five steps). On
@@ -256,6 +299,10 @@ enum GlcolStatus glcol_mesh_destroy(struct GlcolScene *scene, GlcolMeshId mesh);
 // non-const. Meaning: with epsilon e > 0 the other polygon meets the reference polygon's
 // viewing volume (the polygon thickened by e/2 along its normal); with e = 0 the two
 // closed polygons intersect exactly (touching counts).
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_contacts` and `out_count` are NULL or writable
+// and aligned.
 enum GlcolStatus glcol_query(struct GlcolScene *scene,
                              GlcolMeshId reference,
                              const struct GlcolContact **out_contacts,
@@ -270,6 +317,9 @@ enum GlcolStatus glcol_query(struct GlcolScene *scene,
 // used while bound. Needs the scene's context current. Statuses: UNKNOWN_MESH,
 // INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride, buffer too small),
 // GL_ERROR; other backends answer GLCOL_STATUS_UNSUPPORTED.
+//
+// # Safety
+// `scene` is NULL or a live scene.
 enum GlcolStatus glcol_mesh_bind_gl_buffer(struct GlcolScene *scene,
                                            GlcolMeshId mesh,
                                            uint32_t gl_buffer,
@@ -278,9 +328,16 @@ enum GlcolStatus glcol_mesh_bind_gl_buffer(struct GlcolScene *scene,
 
 // Reads a Wavefront OBJ file (`v` and `f` lines; larger faces split into triangle fans)
 // for examples and tests. On success `*out` owns arrays to release with `glcol_obj_free`.
+//
+// # Safety
+// `path` is NULL or a NUL-terminated string; `out` is NULL or writable and aligned.
 enum GlcolStatus glcol_obj_load(const char *path, struct GlcolObjMesh *out);
 
 // Releases the arrays of a mesh read by `glcol_obj_load` and zeroes it. NULL is fine.
+//
+// # Safety
+// `mesh` is NULL, or a writable `GlcolObjMesh` filled by `glcol_obj_load` (or zeroed by
+// `glcol_obj_free`) whose fields the caller has not changed.
 void glcol_obj_free(struct GlcolObjMesh *mesh);
 
 #ifdef __cplusplus

@@ -4,6 +4,38 @@ use crate::bvh::{partition, rule_of_thumb, LeafBoxes};
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::{widen, Aabb, P3};
 
+/// Most vertices a mesh can have, 2^32 - 1: vertex numbers are `u32`. The one limit of the
+/// C API's `glcol_mesh_create` (checked before any array is read), [`Positions::new`] and
+/// [`Mesh::new`], all through [`check_vertex_count`].
+pub(crate) const MAX_VERTICES: usize = u32::MAX as usize;
+
+/// Most polygon corners (polygons times vertices per polygon) a mesh can have, 2^32 - 2:
+/// a mesh keeps a copy of a vertex per leaf that uses it ("slots", numbered by `u32`), and
+/// there are at most as many slots as corners. Checked by [`check_polygon_count`].
+pub(crate) const MAX_CORNERS: usize = u32::MAX as usize - 1;
+
+/// Refuses a vertex count above [`MAX_VERTICES`], naming `vertex_count`.
+pub(crate) fn check_vertex_count(count: usize) -> Result<()> {
+    if count > MAX_VERTICES {
+        return Err(Error::invalid(format!(
+            "vertex_count {count} overflows the 32-bit vertex numbers (at most {MAX_VERTICES} = 2^32 - 1)"
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses `polygons` polygons of `k` vertices whose corners are more than [`MAX_CORNERS`],
+/// naming `polygon_count`.
+pub(crate) fn check_polygon_count(polygons: usize, k: usize) -> Result<()> {
+    if polygons.checked_mul(k).is_none_or(|c| c > MAX_CORNERS) {
+        return Err(Error::invalid(format!(
+            "polygon_count {polygons} times vertices_per_polygon {k} overflows the 32-bit \
+             corner numbers (at most {MAX_CORNERS} = 2^32 - 2 corners)"
+        )));
+    }
+    Ok(())
+}
+
 /// Vertex positions as the caller lays them out: three `f32` per vertex (native endianness),
 /// `stride` bytes apart in a byte slice, or tightly packed points. Reading it is safe; the
 /// FFI builds the byte form from the caller's pointer.
@@ -22,7 +54,8 @@ enum Src<'a> {
 
 impl<'a> Positions<'a> {
     /// `count` vertices `stride` bytes apart (0 means tightly packed, 12). Fails when the
-    /// stride is below 12 or not a multiple of 4, or `bytes` is too short.
+    /// stride is below 12 or not a multiple of 4, `count` is more than a mesh can have
+    /// (2^32 - 1), or `bytes` is too short.
     pub fn new(bytes: &'a [u8], count: usize, stride: usize) -> Result<Positions<'a>> {
         let stride = if stride == 0 { 12 } else { stride };
         if stride < 12 || stride % 4 != 0 {
@@ -30,6 +63,7 @@ impl<'a> Positions<'a> {
                 "position_stride {stride} must be 0 or a multiple of 4 that is at least 12"
             )));
         }
+        check_vertex_count(count)?;
         let need = Self::byte_len(count, stride).ok_or_else(|| {
             Error::invalid(format!(
                 "vertex_count {count} times position_stride {stride} overflows"
@@ -188,12 +222,8 @@ impl Mesh {
         }
         let n_polys = indices.len() / k;
         let nv = positions.len();
-        // Slots are u32 and may outnumber vertices by the polygon count at worst.
-        if indices.len() > u32::MAX as usize - 1 || nv > u32::MAX as usize - 1 {
-            return Err(Error::invalid(
-                "more than 2^32 - 2 vertices or polygon corners",
-            ));
-        }
+        check_vertex_count(nv)?;
+        check_polygon_count(n_polys, k)?;
         if let Some(v) = positions.first_non_finite() {
             return Err(Error::new(
                 ErrorKind::NonFinite,

@@ -537,7 +537,7 @@ fn updates_are_rejected_whole() {
             "stride",
         );
     }
-    let raw = vec![0u8; 64];
+    let raw = [0u8; 64];
     let odd = raw
         .as_ptr()
         .wrapping_add(if raw.as_ptr() as usize % 4 == 0 { 2 } else { 1 });
@@ -889,4 +889,141 @@ fn the_scene_stays_usable_after_a_storm_of_bad_calls() {
     f.scene.set_enabled(extra, false);
     assert!(f.scene.query(extra).is_empty());
     assert!(f.scene.query(f.ids[0]).iter().all(|h| h.0 != extra));
+}
+
+/// A copy of `value`'s bytes at an address 4 bytes past an 8-byte boundary, in `buf`: a
+/// pointer no C compiler would make for an 8-aligned struct.
+fn misaligned_copy<T: Copy>(value: &T, buf: &mut Vec<u64>) -> *const T {
+    let size = std::mem::size_of::<T>();
+    assert!(std::mem::align_of::<T>() == 8, "the structs hold pointers");
+    buf.clear();
+    buf.resize(size / 8 + 2, 0);
+    let at = buf.as_mut_ptr().cast::<u8>().wrapping_add(4);
+    // SAFETY: `buf` holds size + 16 bytes, so size bytes fit from offset 4; byte copies
+    // need no alignment.
+    unsafe { std::ptr::copy_nonoverlapping((value as *const T).cast::<u8>(), at, size) };
+    at.cast()
+}
+
+/// Regression ("struct_size read unaligned but the struct aligned"): a desc is read with
+/// aligned reads only, its struct_size first; a misaligned desc pointer (which C never
+/// makes) is refused before anything is read, naming `desc`, and changes nothing.
+#[test]
+fn a_misaligned_desc_is_refused_before_anything_is_read() {
+    let mut buf = Vec::new();
+    let sentinel = 0x1234usize as *mut GlcolScene;
+    let mut out = sentinel;
+    let d = misaligned_copy(&scene_desc(), &mut buf);
+    let st = unsafe { glcol_scene_create(d, &mut out) };
+    let msg = last_error();
+    assert_eq!(st, S::InvalidArgument, "{msg}");
+    assert!(msg.contains("desc is not 8-byte aligned"), "{msg}");
+    assert_eq!(out, sentinel, "a failed create wrote *out_scene");
+
+    let mut f = Fixture::new();
+    let good = mesh_desc(&f.meshes[0]);
+    let d = misaligned_copy(&good, &mut buf);
+    let mut id = SENTINEL_ID;
+    let st = unsafe { glcol_mesh_create(f.s(), d, &mut id) };
+    f.expect(
+        "misaligned mesh desc",
+        st,
+        S::InvalidArgument,
+        "desc is not 8-byte aligned",
+    );
+    assert_eq!(id, SENTINEL_ID);
+    // The same bytes, aligned, make a mesh: only the address was wrong.
+    let aligned: GlcolMeshDesc = unsafe { d.read_unaligned() };
+    ok(
+        unsafe { glcol_mesh_create(f.s(), &aligned, &mut id) },
+        "the aligned copy",
+    );
+    f.scene.destroy(id);
+}
+
+/// Regression ("the vertex-count limits of ffi and mesh.rs disagree"): one limit, 2^32 - 1
+/// vertices (the header's), refused or accepted alike by the C API and the Rust API, with
+/// the same message. A count at the limit passes the count check and fails on what is
+/// checked next (here a bad stride, or the Rust slice's length: a real array of 2^32 - 1
+/// vertices is 48 GiB); one above it is refused as a count.
+#[cfg(target_pointer_width = "64")]
+#[test]
+fn the_vertex_limit_is_one_for_the_c_and_the_rust_api() {
+    use glcollide::{ErrorKind, Positions};
+    const LIMIT: usize = u32::MAX as usize;
+    let mut f = Fixture::new();
+    let good = mesh_desc(&f.meshes[0]);
+    let s = f.s();
+    let mut id = SENTINEL_ID;
+    let mut create = |f: &mut Fixture, what: &str, d: GlcolMeshDesc, needle: &str| {
+        let st = unsafe { glcol_mesh_create(s, &d, &mut id) };
+        f.expect(what, st, S::InvalidArgument, needle);
+        last_error()
+    };
+    let above = GlcolMeshDesc {
+        vertex_count: LIMIT + 1,
+        position_stride: 4,
+        ..good
+    };
+    let c_above = create(&mut f, "C, one above", above, "vertex_count 4294967296");
+    assert!(c_above.contains("2^32 - 1"), "{c_above}");
+    let at = GlcolMeshDesc {
+        vertex_count: LIMIT,
+        ..above
+    };
+    let c_at = create(&mut f, "C, at the limit", at, "position_stride 4");
+    assert!(!c_at.contains("vertex_count"), "{c_at}");
+    assert_eq!(id, SENTINEL_ID);
+
+    let bytes = [0u8; 12];
+    let e = Positions::new(&bytes, LIMIT + 1, 0).unwrap_err();
+    assert_eq!((e.kind, &e.message), (ErrorKind::InvalidArgument, &c_above));
+    let e = Positions::new(&bytes, LIMIT + 1, 4).unwrap_err();
+    assert!(e.message.contains("position_stride 4"), "{}", e.message);
+    let e = Positions::new(&bytes, LIMIT, 4).unwrap_err();
+    assert_eq!(e.message, c_at);
+    let e = Positions::new(&bytes, LIMIT, 0).unwrap_err();
+    assert!(
+        e.message.contains("bytes of positions") && !e.message.contains("vertex_count"),
+        "{}",
+        e.message
+    );
+    assert_eq!(f.answers(), f.before);
+}
+
+/// The polygon limit is the mesh's too: 2^32 - 2 corners (polygon_count times
+/// vertices_per_polygon), refused by the C API before any array is read.
+#[cfg(target_pointer_width = "64")]
+#[test]
+fn the_corner_limit_is_checked_before_the_arrays_are_read() {
+    const CORNERS: usize = u32::MAX as usize - 1;
+    let mut f = Fixture::new();
+    let good = mesh_desc(&f.meshes[0]);
+    let s = f.s();
+    let mut id = SENTINEL_ID;
+    for (k, polygons) in [(3u32, CORNERS / 3), (4, CORNERS / 4)] {
+        // One polygon more is past the limit: refused as a count.
+        let d = GlcolMeshDesc {
+            vertices_per_polygon: k,
+            polygon_count: polygons + 1,
+            ..good
+        };
+        let st = unsafe { glcol_mesh_create(s, &d, &mut id) };
+        f.expect("one polygon above", st, S::InvalidArgument, "polygon_count");
+        assert!(
+            last_error().contains("2^32 - 2 corners"),
+            "{}",
+            last_error()
+        );
+        // At the limit the count passes; the bad stride, checked next, is refused before
+        // the indices (4 * 2^32 bytes) would be read.
+        let d = GlcolMeshDesc {
+            position_stride: 4,
+            polygon_count: polygons,
+            ..d
+        };
+        let st = unsafe { glcol_mesh_create(s, &d, &mut id) };
+        f.expect("at the limit", st, S::InvalidArgument, "position_stride 4");
+    }
+    assert_eq!(id, SENTINEL_ID);
 }

@@ -79,6 +79,46 @@ fn every_macro_and_type_is_prefixed() {
     }
 }
 
+/// The `NAME = value` entries of `typedef enum <name> { ... }` in the header.
+fn enum_entries(header: &str, name: &str) -> Vec<(String, u32)> {
+    let open = format!("typedef enum {name} {{");
+    let mut lines = header.lines().skip_while(|l| *l != open).skip(1);
+    let mut entries = Vec::new();
+    for l in lines.by_ref() {
+        if l.starts_with('}') {
+            return entries;
+        }
+        if let Some((n, v)) = l.trim().trim_end_matches(',').split_once(" = ") {
+            entries.push((n.to_string(), v.parse().expect("an enum value")));
+        }
+    }
+    panic!("no typedef enum {name} in the header");
+}
+
+/// `glcol_status_name` (its names are made from the Rust enum at compile time, by the rule
+/// cbindgen.toml sets) answers exactly the header's name for each value of GlcolStatus,
+/// and GLCOL_STATUS_UNKNOWN past them.
+#[test]
+fn status_names_are_the_headers() {
+    let entries = enum_entries(&generate(), "GlcolStatus");
+    assert_eq!(entries.len(), 11, "{entries:?}");
+    let name = |v: u32| {
+        // SAFETY: glcol_status_name returns a static NUL-terminated string, never NULL.
+        unsafe { std::ffi::CStr::from_ptr(glcollide::ffi::glcol_status_name(v)) }
+            .to_str()
+            .unwrap()
+            .to_owned()
+    };
+    for (n, v) in &entries {
+        assert_eq!(&name(*v), n, "glcol_status_name({v})");
+    }
+    let past = entries.iter().map(|e| e.1).max().unwrap() + 1;
+    assert_eq!(name(past), "GLCOL_STATUS_UNKNOWN");
+    let backends = enum_entries(&generate(), "GlcolBackend");
+    let values: Vec<u32> = backends.iter().map(|e| e.1).collect();
+    assert_eq!(values, [0, 1, 2, 3], "{backends:?}");
+}
+
 #[test]
 #[ignore]
 fn regenerate() {

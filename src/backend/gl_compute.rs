@@ -582,14 +582,9 @@ impl GlComputeSelector {
                 },
             );
         }
-        if let Err(e) = self.gl.check("allocating the query's buffers") {
+        if let Err(e) = self.gl.check_alloc("allocating the query's buffers") {
             self.caps = Caps::default();
-            let kind = if e.message.contains("OUT_OF_MEMORY") {
-                ErrorKind::OutOfMemory
-            } else {
-                e.kind
-            };
-            return Err(Error::new(kind, e.message));
+            return Err(e);
         }
         self.sized = Some((c, l1));
         Ok(())

@@ -55,16 +55,41 @@ pub struct QueryStats {
     pub readbacks: u32,
 }
 
-/// The backends of the C API.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    /// Exact predicates and `f64` clipping on the CPU.
-    Cpu,
-    /// The GL's selection mode, as in the paper.
-    GlSelect,
-    /// GL compute dispatches.
-    GlCompute,
+/// The one list of backends. `with_backends!(m)` expands to `m! { /// doc \n Name, ... }`:
+/// [`Backend`] and [`Request`] are declared from it below, and the C API (`ffi`) derives its
+/// value mapping from it, so no second list can drift from this one.
+macro_rules! with_backends {
+    ($m:ident) => {
+        $m! {
+            /// The CPU: exact predicates and `f64` clipping (needs no GL).
+            Cpu,
+            /// The GL's selection mode, as in the paper (GL_SELECT).
+            GlSelect,
+            /// GL compute dispatches (GL_COMPUTE).
+            GlCompute,
+        }
+    };
 }
+pub(crate) use with_backends;
+
+macro_rules! declare_backends {
+    ($($(#[$doc:meta])* $backend:ident,)*) => {
+        /// The backends of the C API.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum Backend {
+            $($(#[$doc])* $backend,)*
+        }
+
+        /// The backend asked for at scene creation: AUTO or one of [`Backend`]'s.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum Request {
+            /// The best available: see [`create`].
+            Auto,
+            $($(#[$doc])* $backend,)*
+        }
+    };
+}
+with_backends!(declare_backends);
 
 /// A box or a polygon of one of the query's meshes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -259,19 +284,6 @@ pub trait Selector: Send {
     /// Deletes the backend's GL objects (the scene's context must be current). Called once,
     /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
     fn release(&mut self) {}
-}
-
-/// The backend asked for at scene creation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Request {
-    /// The best available: see [`create`].
-    Auto,
-    /// The CPU backend (needs no GL).
-    Cpu,
-    /// GL_SELECT.
-    GlSelect,
-    /// GL_COMPUTE.
-    GlCompute,
 }
 
 /// Makes the backend a scene asks for, loading GL through `gpa` for the current context.

@@ -7,7 +7,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Once;
 
 use super::types::GlcolStatus;
-use crate::error::{Error, ErrorKind};
+use crate::error::Error;
 
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
@@ -54,23 +54,14 @@ fn guarded<T>(f: impl FnOnce() -> T) -> std::thread::Result<T> {
 #[derive(Debug)]
 pub struct Fail(pub GlcolStatus, pub String);
 
+/// A core error fails with its kind's status (the mapping is generated in `tables.rs`).
 impl From<Error> for Fail {
     fn from(e: Error) -> Fail {
-        let s = match e.kind {
-            ErrorKind::InvalidArgument => GlcolStatus::InvalidArgument,
-            ErrorKind::NonFinite => GlcolStatus::NonFinite,
-            ErrorKind::IndexOutOfRange => GlcolStatus::IndexOutOfRange,
-            ErrorKind::UnknownMesh => GlcolStatus::UnknownMesh,
-            ErrorKind::GlUnavailable => GlcolStatus::GlUnavailable,
-            ErrorKind::GlError => GlcolStatus::GlError,
-            ErrorKind::Unsupported => GlcolStatus::Unsupported,
-            ErrorKind::OutOfMemory => GlcolStatus::OutOfMemory,
-            ErrorKind::Internal => GlcolStatus::Internal,
-        };
-        Fail(s, e.message)
+        Fail(GlcolStatus::from(e.kind), e.message)
     }
 }
 
+/// What a guarded body returns.
 pub type FfiResult = Result<(), Fail>;
 
 /// `Err(NULL_POINTER)` naming `what` when `p` is NULL.
@@ -82,6 +73,7 @@ pub fn non_null<T>(p: *const T, what: &str) -> FfiResult {
     }
 }
 
+/// `INVALID_ARGUMENT` with `msg`.
 pub fn invalid(msg: impl Into<String>) -> Fail {
     Fail(GlcolStatus::InvalidArgument, msg.into())
 }
@@ -114,6 +106,7 @@ pub fn guard_or<T>(default: T, f: impl FnOnce() -> T) -> T {
     guarded(f).unwrap_or(default)
 }
 
+/// Keeps `msg` as this thread's last error message (a NUL in it becomes a space).
 pub fn set_last_error(msg: &str) {
     let c = CString::new(msg.replace('\0', " ")).unwrap_or_default();
     // try_with / try_borrow_mut: this path must never panic (thread teardown, reentrancy).
@@ -139,16 +132,23 @@ pub fn last_error_ptr() -> *const c_char {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::{try_reserve, ErrorKind};
     use std::ffi::CStr;
+
+    fn last_error() -> String {
+        // SAFETY: last_error_ptr is never NULL and points to this thread's NUL-terminated
+        // message, unchanged while it is read here.
+        unsafe { CStr::from_ptr(last_error_ptr()) }
+            .to_str()
+            .unwrap()
+            .to_owned()
+    }
 
     #[test]
     fn panics_become_internal_with_message() {
         let s = guard(|| panic!("boom {}", 42));
         assert_eq!(s, GlcolStatus::Internal);
-        let msg = unsafe { CStr::from_ptr(last_error_ptr()) }
-            .to_str()
-            .unwrap()
-            .to_owned();
+        let msg = last_error();
         assert!(
             msg.contains("boom 42") && msg.contains("guard.rs:"),
             "{msg}"
@@ -160,11 +160,29 @@ mod tests {
     fn errors_keep_their_status_and_message() {
         let s = guard(|| Err(Error::new(ErrorKind::NonFinite, "vertex 3 is NaN").into()));
         assert_eq!(s, GlcolStatus::NonFinite);
-        let msg = unsafe { CStr::from_ptr(last_error_ptr()) }
-            .to_str()
-            .unwrap()
-            .to_owned();
+        let msg = last_error();
         assert_eq!(msg, "vertex 3 is NaN");
         assert_eq!(guard(|| Ok(())), GlcolStatus::Ok);
+    }
+
+    /// Out-of-memory is recognised by the error's type where the allocation fails (a
+    /// failed `try_reserve`), and the boundary answers OUT_OF_MEMORY for its kind; a message
+    /// that merely mentions memory does not make an error out-of-memory.
+    #[test]
+    fn a_failed_allocation_is_out_of_memory_by_kind_not_by_text() {
+        let s = guard(|| {
+            let mut v: Vec<u64> = Vec::new();
+            try_reserve(&mut v, usize::MAX / 4, "the query's contacts")?;
+            Ok(())
+        });
+        assert_eq!(s, GlcolStatus::OutOfMemory);
+        assert!(
+            last_error().starts_with("the query's contacts: "),
+            "{}",
+            last_error()
+        );
+        let s =
+            guard(|| Err(Error::new(ErrorKind::GlError, "GL_OUT_OF_MEMORY during a draw").into()));
+        assert_eq!(s, GlcolStatus::GlError);
     }
 }

@@ -1,10 +1,15 @@
 //! The C ABI: the only `extern "C"` code. Each function checks its pointers, runs its body
-//! in [`guard::guard`] (errors become a status and a thread-local message, panics become
+//! in `guard::guard` (errors become a status and a thread-local message, panics become
 //! `GLCOL_STATUS_INTERNAL`), and writes its outputs only on success.
+//!
+//! Every `unsafe` operation is in an `unsafe` block with a `// SAFETY:` comment saying
+//! which part of the function's `# Safety` contract (or which check) makes it sound.
 
-#![allow(clippy::missing_safety_doc)]
+#![deny(unsafe_op_in_unsafe_fn)]
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 mod guard;
+mod tables;
 mod types;
 
 use std::ffi::{c_char, CStr};
@@ -12,8 +17,8 @@ use std::ffi::{c_char, CStr};
 use guard::{guard, guard_or, invalid, non_null, Fail, FfiResult};
 pub use types::*;
 
-use crate::backend::{Backend, Request};
-use crate::mesh::Positions;
+use crate::error::try_reserve;
+use crate::mesh::{check_polygon_count, check_vertex_count, Positions};
 use crate::scene::{Scene, SceneConfig};
 
 /// ABI version: bumps on any incompatible change of the C API (and with it the soname).
@@ -33,15 +38,65 @@ pub const GLCOL_ABI_VERSION: u32 = 1;
 /// their counts and stride say (positions, indices); a contacts array read after the next
 /// non-const call on its scene. (Mesh ids are unique in the process, so an id made by
 /// another scene, or destroyed, is always detected: GLCOL_STATUS_UNKNOWN_MESH.)
+///
+/// A "live scene", in the functions' Safety sections: a pointer made by
+/// `glcol_scene_create`, not yet given to `glcol_scene_destroy`, used by no other thread
+/// during the call, and, for a GL-backed scene, with its context (or one sharing its
+/// objects) current on the calling thread.
 pub struct GlcolScene {
     scene: Scene,
     contacts: Vec<GlcolContact>,
 }
 
 /// The scene behind a pointer, or `NULL_POINTER`.
+///
+/// # Safety
+/// `p` is NULL or a live scene (made by `glcol_scene_create`, not destroyed) that nothing
+/// else uses for `'a`.
 unsafe fn scene_mut<'a>(p: *mut GlcolScene) -> Result<&'a mut GlcolScene, Fail> {
     non_null(p, "scene")?;
-    Ok(&mut *p)
+    // SAFETY: non-null (checked), and the caller's contract: a live scene used by nothing
+    // else for 'a.
+    Ok(unsafe { &mut *p })
+}
+
+/// The scene behind a const pointer, or `NULL_POINTER`.
+///
+/// # Safety
+/// `p` is NULL or a live scene that no one changes for `'a`.
+unsafe fn scene_ref<'a>(p: *const GlcolScene) -> Result<&'a GlcolScene, Fail> {
+    non_null(p, "scene")?;
+    // SAFETY: non-null (checked), and the caller's contract: a live scene no one changes
+    // for 'a.
+    Ok(unsafe { &*p })
+}
+
+/// `Err(INVALID_ARGUMENT)` naming `what` when `p` is not aligned for `T` (C guarantees it
+/// for a pointer to a `T`; a misaligned one is refused before anything is read).
+fn aligned<T>(p: *const T, what: &str) -> FfiResult {
+    if p.is_aligned() {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "{what} is not {}-byte aligned",
+            std::mem::align_of::<T>()
+        )))
+    }
+}
+
+/// Reads a caller's struct: `struct_size` (its first field) first, since the rest may not
+/// be there, then, if it is the size this library knows, the whole struct.
+///
+/// # Safety
+/// `p` is non-null and aligned (checked by the caller), and points to readable memory of
+/// at least 4 bytes, and of `size_of::<T>()` bytes if its first 4 bytes say so.
+unsafe fn read_desc<T: Copy>(p: *const T, struct_size: *const u32, what: &str) -> Result<T, Fail> {
+    // SAFETY: `struct_size` is the first field of `*p` (offset 0, so in bounds and aligned
+    // as `p` is): an aligned read of the 4 bytes every version of the struct has.
+    let got = unsafe { struct_size.read() };
+    check_struct_size(got, std::mem::size_of::<T>(), what)?;
+    // SAFETY: the struct is as large as `T` (its struct_size says so) and aligned.
+    Ok(unsafe { p.read() })
 }
 
 /// Checks a caller struct's `struct_size` (the first field) against the one we know.
@@ -55,6 +110,9 @@ fn check_struct_size(got: u32, want: usize, what: &str) -> FfiResult {
 }
 
 /// `Positions` over the caller's array after every check that can be made.
+///
+/// # Safety
+/// `p` is NULL or readable for `count` vertices `stride` bytes apart (0 = 12) for `'a`.
 unsafe fn positions<'a>(p: *const f32, count: usize, stride: usize) -> Result<Positions<'a>, Fail> {
     non_null(p, "positions")?;
     if count == 0 {
@@ -73,7 +131,9 @@ unsafe fn positions<'a>(p: *const f32, count: usize, stride: usize) -> Result<Po
         })?;
     // The stride itself (>= 12, multiple of 4) is checked by Positions::new.
     let bytes = if s >= 12 {
-        std::slice::from_raw_parts(p.cast::<u8>(), len)
+        // SAFETY: non-null and aligned (checked), `len` <= isize::MAX (checked), and the
+        // caller's contract: `count` vertices `s` apart, `len` bytes, are readable for 'a.
+        unsafe { std::slice::from_raw_parts(p.cast::<u8>(), len) }
     } else {
         &[]
     };
@@ -84,21 +144,9 @@ unsafe fn positions<'a>(p: *const f32, count: usize, stride: usize) -> Result<Po
 /// ("GLCOL_STATUS_UNKNOWN" for values not in the enum).
 #[no_mangle]
 pub extern "C" fn glcol_status_name(s: raw::GlcolStatus) -> *const c_char {
-    let name: &'static [u8] = match s {
-        0 => b"GLCOL_STATUS_OK\0",
-        1 => b"GLCOL_STATUS_NULL_POINTER\0",
-        2 => b"GLCOL_STATUS_INVALID_ARGUMENT\0",
-        3 => b"GLCOL_STATUS_NON_FINITE\0",
-        4 => b"GLCOL_STATUS_INDEX_OUT_OF_RANGE\0",
-        5 => b"GLCOL_STATUS_UNKNOWN_MESH\0",
-        6 => b"GLCOL_STATUS_GL_UNAVAILABLE\0",
-        7 => b"GLCOL_STATUS_GL_ERROR\0",
-        8 => b"GLCOL_STATUS_UNSUPPORTED\0",
-        9 => b"GLCOL_STATUS_OUT_OF_MEMORY\0",
-        10 => b"GLCOL_STATUS_INTERNAL\0",
-        _ => b"GLCOL_STATUS_UNKNOWN\0",
-    };
-    name.as_ptr().cast()
+    GlcolStatus::from_raw(s)
+        .map_or(c"GLCOL_STATUS_UNKNOWN", GlcolStatus::name)
+        .as_ptr()
 }
 
 /// Human-readable detail of the last failing call on this thread ("" if none). The
@@ -122,37 +170,49 @@ pub extern "C" fn glcol_version() -> *const c_char {
 
 /// Fills every field of `desc` with its default: struct_size, GLCOL_BACKEND_AUTO, no
 /// loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of thumb). NULL is ignored.
+///
+/// # Safety
+/// `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
     if desc.is_null() {
         return;
     }
-    desc.write(GlcolSceneDesc {
-        struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
-        backend: GlcolBackend::Auto as u32,
-        get_proc_address: None,
-        user_data: std::ptr::null_mut(),
-        epsilon: 0.0,
-        max_polygons_per_box: 0,
-    });
+    // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+    unsafe {
+        desc.write(GlcolSceneDesc {
+            struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
+            backend: GlcolBackend::Auto as u32,
+            get_proc_address: None,
+            user_data: std::ptr::null_mut(),
+            epsilon: 0.0,
+            max_polygons_per_box: 0,
+        })
+    };
 }
 
 /// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
 /// vertices_per_polygon 3). NULL is ignored.
+///
+/// # Safety
+/// `desc` is NULL or points to a writable, aligned `GlcolMeshDesc`.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
     if desc.is_null() {
         return;
     }
-    desc.write(GlcolMeshDesc {
-        struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
-        positions: std::ptr::null(),
-        vertex_count: 0,
-        position_stride: 0,
-        indices: std::ptr::null(),
-        polygon_count: 0,
-        vertices_per_polygon: 3,
-    });
+    // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+    unsafe {
+        desc.write(GlcolMeshDesc {
+            struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
+            positions: std::ptr::null(),
+            vertex_count: 0,
+            position_stride: 0,
+            indices: std::ptr::null(),
+            polygon_count: 0,
+            vertices_per_polygon: 3,
+        })
+    };
 }
 
 /// Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
@@ -180,6 +240,12 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
 ///   CPU backend's test at `epsilon`, so the contacts are the CPU backend's, exact at
 ///   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
 ///   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
+///
+/// # Safety
+/// `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,
+/// aligned as C aligns it (a misaligned `desc` is refused: INVALID_ARGUMENT). `out_scene` is
+/// NULL or writable and aligned. A non-NULL `get_proc_address` is a loader for the context
+/// current on this thread, callable with `user_data`.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_create(
     desc: *const GlcolSceneDesc,
@@ -188,36 +254,38 @@ pub unsafe extern "C" fn glcol_scene_create(
     guard(|| {
         non_null(desc, "desc")?;
         non_null(out_scene, "out_scene")?;
-        // struct_size first: the rest may not be there.
-        let size = std::ptr::addr_of!((*desc).struct_size).read_unaligned();
-        check_struct_size(
-            size,
-            std::mem::size_of::<GlcolSceneDesc>(),
-            "GlcolSceneDesc",
-        )?;
-        let d = desc.read();
-        let request = match d.backend {
-            0 => Request::Auto,
-            1 => Request::Cpu,
-            2 => Request::GlSelect,
-            3 => Request::GlCompute,
-            v => {
-                return Err(invalid(format!(
-                    "backend is {v}; it must be a GlcolBackend value (0 to 3)"
-                )))
-            }
-        };
+        aligned(desc, "desc")?;
+        // SAFETY: `desc` is non-null and aligned (checked), readable for struct_size bytes
+        // (the caller's contract); addr_of! makes no reference to the whole struct.
+        let d = unsafe {
+            read_desc(
+                desc,
+                std::ptr::addr_of!((*desc).struct_size),
+                "GlcolSceneDesc",
+            )
+        }?;
+        let request = GlcolBackend::request(d.backend).ok_or_else(|| {
+            invalid(format!(
+                "backend is {}; it must be a GlcolBackend value (0 to {})",
+                d.backend,
+                GlcolBackend::max_value()
+            ))
+        })?;
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
         };
         config.validate()?;
-        let selector = crate::backend::create(request, d.get_proc_address, d.user_data)?;
+        // SAFETY: the caller's contract: a non-NULL loader loads for the current context
+        // with `user_data`.
+        let selector = unsafe { crate::backend::create(request, d.get_proc_address, d.user_data) }?;
         let scene = Scene::with_selector(config, selector)?;
-        out_scene.write(Box::into_raw(Box::new(GlcolScene {
+        let scene = Box::into_raw(Box::new(GlcolScene {
             scene,
             contacts: Vec::new(),
-        })));
+        }));
+        // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+        unsafe { out_scene.write(scene) };
         Ok(())
     })
 }
@@ -226,30 +294,36 @@ pub unsafe extern "C" fn glcol_scene_create(
 /// objects, so the scene's context (or one sharing its objects) must be current; the
 /// host's GL state is left as it was. Using the pointer afterwards is undefined (not
 /// detectable).
+///
+/// # Safety
+/// `scene` is NULL or a live scene (see GlcolScene).
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_destroy(scene: *mut GlcolScene) {
     if !scene.is_null() {
-        let mut s = Box::from_raw(scene);
+        // SAFETY: the caller's contract: a live scene, so a pointer from Box::into_raw in
+        // glcol_scene_create, not freed yet, that no one else uses.
+        let mut s = unsafe { Box::from_raw(scene) };
         guard_or((), || s.scene.release_gl());
         guard_or((), || drop(s));
     }
 }
 
 /// The backend the scene runs on (what AUTO chose).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `out` is NULL or writable and aligned.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_backend(
     scene: *const GlcolScene,
     out: *mut raw::GlcolBackend,
 ) -> GlcolStatus {
     guard(|| {
-        non_null(scene, "scene")?;
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_ref(scene) }?;
         non_null(out, "out")?;
-        let b = match (*scene).scene.backend() {
-            Backend::Cpu => GlcolBackend::Cpu,
-            Backend::GlSelect => GlcolBackend::GlSelect,
-            Backend::GlCompute => GlcolBackend::GlCompute,
-        };
-        out.write(b as u32);
+        let b = GlcolBackend::from(s.scene.backend());
+        // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+        unsafe { out.write(b as u32) };
         Ok(())
     })
 }
@@ -258,9 +332,17 @@ pub unsafe extern "C" fn glcol_scene_backend(
 /// `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
 /// desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
 /// alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
-/// Counts above 2^32 - 1 vertices or 2^32 - 2 polygons, or whose byte size overflows, are
-/// refused before the arrays are read. Arrays shorter than the counts say, or dangling
-/// pointers, cannot be detected (undefined behaviour).
+/// Counts above 2^32 - 1 vertices or 2^32 - 2 polygon corners (polygon_count times
+/// vertices_per_polygon), or whose byte size overflows, are refused before the arrays are
+/// read. Arrays shorter than the counts say, or dangling pointers, cannot be detected
+/// (undefined behaviour).
+///
+/// # Safety
+/// `scene` is NULL or a live scene. `desc` is NULL or points to a readable `GlcolMeshDesc`
+/// of `desc->struct_size` bytes, aligned as C aligns it (a misaligned `desc` is refused:
+/// INVALID_ARGUMENT), whose `positions` is NULL or readable for `vertex_count` vertices
+/// `position_stride` bytes apart and whose `indices` is NULL or readable for
+/// `polygon_count * vertices_per_polygon` values. `out_id` is NULL or writable and aligned.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_create(
     scene: *mut GlcolScene,
@@ -268,12 +350,20 @@ pub unsafe extern "C" fn glcol_mesh_create(
     out_id: *mut GlcolMeshId,
 ) -> GlcolStatus {
     guard(|| {
-        let s = scene_mut(scene)?;
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
         non_null(desc, "desc")?;
         non_null(out_id, "out_id")?;
-        let size = std::ptr::addr_of!((*desc).struct_size).read_unaligned();
-        check_struct_size(size, std::mem::size_of::<GlcolMeshDesc>(), "GlcolMeshDesc")?;
-        let d = desc.read();
+        aligned(desc, "desc")?;
+        // SAFETY: `desc` is non-null and aligned (checked), readable for struct_size bytes
+        // (the caller's contract); addr_of! makes no reference to the whole struct.
+        let d = unsafe {
+            read_desc(
+                desc,
+                std::ptr::addr_of!((*desc).struct_size),
+                "GlcolMeshDesc",
+            )
+        }?;
         let k = d.vertices_per_polygon;
         if k != 3 && k != 4 {
             return Err(invalid(format!(
@@ -285,20 +375,13 @@ pub unsafe extern "C" fn glcol_mesh_create(
         if d.polygon_count == 0 {
             return Err(invalid("polygon_count is 0"));
         }
-        // Counts the library cannot number are refused before any array is touched.
-        if d.vertex_count > u32::MAX as usize {
-            return Err(invalid(format!(
-                "vertex_count {} overflows the 32-bit vertex numbers (at most 2^32 - 1)",
-                d.vertex_count
-            )));
-        }
-        if d.polygon_count > u32::MAX as usize - 1 {
-            return Err(invalid(format!(
-                "polygon_count {} overflows the 32-bit polygon numbers (at most 2^32 - 2)",
-                d.polygon_count
-            )));
-        }
-        let pos = positions(d.positions, d.vertex_count, d.position_stride)?;
+        // Counts the library cannot number are refused before any array is touched, by the
+        // checks Mesh::new makes.
+        check_vertex_count(d.vertex_count)?;
+        check_polygon_count(d.polygon_count, k as usize)?;
+        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
+        // `position_stride` apart.
+        let pos = unsafe { positions(d.positions, d.vertex_count, d.position_stride) }?;
         if (d.indices as usize) % std::mem::align_of::<u32>() != 0 {
             return Err(invalid("indices is not 4-byte aligned"));
         }
@@ -312,9 +395,12 @@ pub unsafe extern "C" fn glcol_mesh_create(
                     d.polygon_count
                 ))
             })?;
-        let indices = std::slice::from_raw_parts(d.indices, n);
+        // SAFETY: non-null and aligned (checked), n * 4 bytes <= isize::MAX (checked), and
+        // the caller's contract: `indices` holds polygon_count * vertices_per_polygon values.
+        let indices = unsafe { std::slice::from_raw_parts(d.indices, n) };
         let id = s.scene.create_mesh(pos, indices, k as usize)?;
-        out_id.write(id);
+        // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+        unsafe { out_id.write(id) };
         Ok(())
     })
 }
@@ -326,6 +412,10 @@ pub unsafe extern "C" fn glcol_mesh_create(
 /// NON_FINITE. The range is checked against the mesh before the array is read; an array
 /// shorter than `vertex_count` vertices `position_stride` apart cannot be detected
 /// (undefined behaviour).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+/// vertices `position_stride` bytes apart.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_update_positions(
     scene: *mut GlcolScene,
@@ -336,7 +426,8 @@ pub unsafe extern "C" fn glcol_mesh_update_positions(
     position_stride: usize,
 ) -> GlcolStatus {
     guard(|| {
-        let s = scene_mut(scene)?;
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
         let n = s.scene.mesh(mesh)?.vertex_count();
         non_null(positions, "positions")?;
         // The range first, so that no count larger than the mesh reaches the array.
@@ -345,7 +436,9 @@ pub unsafe extern "C" fn glcol_mesh_update_positions(
                 "first_vertex {first_vertex} + vertex_count {vertex_count} runs past the mesh's {n} vertices"
             )));
         }
-        let pos = self::positions(positions, vertex_count, position_stride)?;
+        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
+        // `position_stride` apart.
+        let pos = unsafe { self::positions(positions, vertex_count, position_stride) }?;
         s.scene.update_positions(mesh, first_vertex, pos)?;
         Ok(())
     })
@@ -353,22 +446,36 @@ pub unsafe extern "C" fn glcol_mesh_update_positions(
 
 /// Enables or disables a mesh. A disabled mesh costs nothing in a query and has no
 /// contacts (as reference or as other).
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_set_enabled(
     scene: *mut GlcolScene,
     mesh: GlcolMeshId,
     enabled: bool,
 ) -> GlcolStatus {
-    guard(|| Ok(scene_mut(scene)?.scene.set_enabled(mesh, enabled)?))
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        Ok(s.scene.set_enabled(mesh, enabled)?)
+    })
 }
 
 /// Removes a mesh from the scene. Its id is never reused.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_destroy(
     scene: *mut GlcolScene,
     mesh: GlcolMeshId,
 ) -> GlcolStatus {
-    guard(|| Ok(scene_mut(scene)?.scene.destroy_mesh(mesh)?))
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        Ok(s.scene.destroy_mesh(mesh)?)
+    })
 }
 
 /// Collides `reference` against every other enabled mesh (the paper's five steps). On
@@ -378,6 +485,10 @@ pub unsafe extern "C" fn glcol_mesh_destroy(
 /// non-const. Meaning: with epsilon e > 0 the other polygon meets the reference polygon's
 /// viewing volume (the polygon thickened by e/2 along its normal); with e = 0 the two
 /// closed polygons intersect exactly (touching counts).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `out_contacts` and `out_count` are NULL or writable
+/// and aligned.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_query(
     scene: *mut GlcolScene,
@@ -386,22 +497,30 @@ pub unsafe extern "C" fn glcol_query(
     out_count: *mut usize,
 ) -> GlcolStatus {
     guard(|| {
-        let s = scene_mut(scene)?;
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
         non_null(out_contacts, "out_contacts")?;
         non_null(out_count, "out_count")?;
         let found = s.scene.query(reference)?;
+        // Room first: a failed allocation leaves the last answer's array as it was.
+        let more = found.len().saturating_sub(s.contacts.len());
+        try_reserve(&mut s.contacts, more, "the query's contacts")?;
         s.contacts.clear();
         s.contacts.extend(found.iter().map(|c| GlcolContact {
             reference_polygon: c.reference_polygon,
             other_mesh: c.other_mesh,
             other_polygon: c.other_polygon,
         }));
-        out_contacts.write(if s.contacts.is_empty() {
+        let first = if s.contacts.is_empty() {
             std::ptr::null()
         } else {
             s.contacts.as_ptr()
-        });
-        out_count.write(s.contacts.len());
+        };
+        // SAFETY: both non-null (checked); the caller's contract: writable and aligned.
+        unsafe {
+            out_contacts.write(first);
+            out_count.write(s.contacts.len());
+        }
         Ok(())
     })
 }
@@ -415,6 +534,9 @@ pub unsafe extern "C" fn glcol_query(
 /// used while bound. Needs the scene's context current. Statuses: UNKNOWN_MESH,
 /// INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride, buffer too small),
 /// GL_ERROR; other backends answer GLCOL_STATUS_UNSUPPORTED.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_bind_gl_buffer(
     scene: *mut GlcolScene,
@@ -424,13 +546,17 @@ pub unsafe extern "C" fn glcol_mesh_bind_gl_buffer(
     stride: usize,
 ) -> GlcolStatus {
     guard(|| {
-        let s = scene_mut(scene)?;
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
         Ok(s.scene.bind_gl_buffer(mesh, gl_buffer, offset, stride)?)
     })
 }
 
 /// Reads a Wavefront OBJ file (`v` and `f` lines; larger faces split into triangle fans)
 /// for examples and tests. On success `*out` owns arrays to release with `glcol_obj_free`.
+///
+/// # Safety
+/// `path` is NULL or a NUL-terminated string; `out` is NULL or writable and aligned.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_obj_load(
     path: *const c_char,
@@ -439,48 +565,74 @@ pub unsafe extern "C" fn glcol_obj_load(
     guard(|| {
         non_null(path, "path")?;
         non_null(out, "out")?;
-        let p = CStr::from_ptr(path)
+        // SAFETY: non-null (checked); the caller's contract: NUL-terminated.
+        let p = unsafe { CStr::from_ptr(path) }
             .to_str()
             .map_err(|_| invalid("path is not UTF-8"))?;
         let m = crate::obj::load(p)?;
-        let positions: Box<[f32]> = m.positions.into_iter().flatten().collect();
+        let mut positions = Vec::new();
+        try_reserve(
+            &mut positions,
+            3 * m.positions.len(),
+            "the OBJ file's positions",
+        )?;
+        positions.extend(m.positions.into_iter().flatten());
+        let positions = positions.into_boxed_slice();
         let indices: Box<[u32]> = m.triangles.into_boxed_slice();
         let (vc, pc) = (positions.len() / 3, indices.len() / 3);
-        out.write(GlcolObjMesh {
+        let mesh = GlcolObjMesh {
             positions: Box::into_raw(positions).cast(),
             vertex_count: vc,
             indices: Box::into_raw(indices).cast(),
             polygon_count: pc,
             vertices_per_polygon: 3,
-        });
+        };
+        // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+        unsafe { out.write(mesh) };
         Ok(())
     })
 }
 
 /// Releases the arrays of a mesh read by `glcol_obj_load` and zeroes it. NULL is fine.
+///
+/// # Safety
+/// `mesh` is NULL, or a writable `GlcolObjMesh` filled by `glcol_obj_load` (or zeroed by
+/// `glcol_obj_free`) whose fields the caller has not changed.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_obj_free(mesh: *mut GlcolObjMesh) {
     if mesh.is_null() {
         return;
     }
-    let m = mesh.read();
+    // SAFETY: non-null (checked); the caller's contract: an aligned, initialised
+    // GlcolObjMesh.
+    let m = unsafe { mesh.read() };
     if !m.positions.is_null() {
-        drop(Box::from_raw(std::ptr::slice_from_raw_parts_mut(
-            m.positions,
-            m.vertex_count * 3,
-        )));
+        // SAFETY: the caller's contract: `positions` is the Box<[f32]> of
+        // 3 * vertex_count floats glcol_obj_load leaked, not freed yet.
+        drop(unsafe {
+            Box::from_raw(std::ptr::slice_from_raw_parts_mut(
+                m.positions,
+                m.vertex_count * 3,
+            ))
+        });
     }
     if !m.indices.is_null() {
-        drop(Box::from_raw(std::ptr::slice_from_raw_parts_mut(
-            m.indices,
-            m.polygon_count * 3,
-        )));
+        // SAFETY: the caller's contract: `indices` is the Box<[u32]> of
+        // 3 * polygon_count values glcol_obj_load leaked, not freed yet.
+        drop(unsafe {
+            Box::from_raw(std::ptr::slice_from_raw_parts_mut(
+                m.indices,
+                m.polygon_count * 3,
+            ))
+        });
     }
-    mesh.write(GlcolObjMesh {
+    let zeroed = GlcolObjMesh {
         positions: std::ptr::null_mut(),
         vertex_count: 0,
         indices: std::ptr::null_mut(),
         polygon_count: 0,
         vertices_per_polygon: 0,
-    });
+    };
+    // SAFETY: non-null (checked); the caller's contract: writable and aligned.
+    unsafe { mesh.write(zeroed) };
 }

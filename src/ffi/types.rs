@@ -3,6 +3,11 @@
 use std::ffi::c_void;
 
 /// How a call went. Values are ABI: never renumber; new values are appended.
+//
+// Written out for cbindgen (it does not expand macros). The Rust side derives the rest
+// from this enum and the core's error kinds (src/ffi/tables.rs): a variant here needs an
+// `ErrorKind` of the same name or a place among the boundary's own statuses there, or the
+// crate does not compile.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GlcolStatus {
@@ -32,6 +37,9 @@ pub enum GlcolStatus {
 }
 
 /// Which implementation answers a scene's queries. Values are ABI.
+//
+// Written out for cbindgen. Besides AUTO, each variant is a core `Backend` of the same name
+// (src/ffi/tables.rs derives the mapping; a mismatch does not compile).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GlcolBackend {
@@ -59,7 +67,9 @@ pub type GlcolGetProcAddress = Option<
 /// the enum names.
 /// cbindgen:ignore
 pub mod raw {
+    /// A `GlcolStatus` value as C passes it (checked before use).
     pub type GlcolStatus = u32;
+    /// A `GlcolBackend` value as C passes it (checked before use).
     pub type GlcolBackend = u32;
 }
 
@@ -129,9 +139,11 @@ pub struct GlcolContact {
 pub struct GlcolObjMesh {
     /// x, y, z per vertex.
     pub positions: *mut f32,
+    /// Number of vertices (`positions` holds 3 times as many floats).
     pub vertex_count: usize,
     /// Three 0-based vertex indices per triangle.
     pub indices: *mut u32,
+    /// Number of triangles (`indices` holds 3 times as many values).
     pub polygon_count: usize,
     /// Always 3 (larger faces are split into fans).
     pub vertices_per_polygon: u32,

@@ -180,23 +180,50 @@ impl Gl {
 
     /// Takes every pending GL error; `Err(GL_ERROR)` naming them and `what` if any.
     pub fn check(&self, what: &str) -> Result<()> {
-        let mut names = Vec::new();
+        errors_during(&self.take_errors(), what, ErrorKind::GlError)
+    }
+
+    /// [`Gl::check`] after calls that allocate GL memory: when GL_OUT_OF_MEMORY is among
+    /// the errors, the error is [`ErrorKind::OutOfMemory`] (told by the error code).
+    pub fn check_alloc(&self, what: &str) -> Result<()> {
+        let codes = self.take_errors();
+        errors_during(&codes, what, allocation_error_kind(&codes))
+    }
+
+    /// The pending GL error codes (at most 8: a lost context may report errors forever).
+    fn take_errors(&self) -> Vec<u32> {
+        let mut codes = Vec::new();
         for _ in 0..8 {
             let e = unsafe { self.gl.get_error() };
             if e == glow::NO_ERROR {
                 break;
             }
-            names.push(error_name(e));
+            codes.push(e);
         }
-        if names.is_empty() {
-            Ok(())
-        } else {
-            Err(Error::new(
-                ErrorKind::GlError,
-                format!("{} during {what}", names.join(", ")),
-            ))
-        }
+        codes
     }
+}
+
+/// The kind of the errors `codes` reported by an allocation: OutOfMemory when
+/// GL_OUT_OF_MEMORY is among them, GlError otherwise.
+fn allocation_error_kind(codes: &[u32]) -> ErrorKind {
+    if codes.contains(&glow::OUT_OF_MEMORY) {
+        ErrorKind::OutOfMemory
+    } else {
+        ErrorKind::GlError
+    }
+}
+
+/// `Err(kind)` naming the errors `codes` and `what`, if there are any.
+fn errors_during(codes: &[u32], what: &str, kind: ErrorKind) -> Result<()> {
+    if codes.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<&str> = codes.iter().map(|&e| error_name(e)).collect();
+    Err(Error::new(
+        kind,
+        format!("{} during {what}", names.join(", ")),
+    ))
 }
 
 /// Name of a glGetError value.
@@ -261,4 +288,28 @@ pub fn min_half_depth(half_depth: f64, roots: impl Iterator<Item = Aabb> + Clone
         }
     };
     half_depth.max(MIN_RELATIVE_EPSILON * size / 2.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An allocation's GL_OUT_OF_MEMORY is OUT_OF_MEMORY by its code; the message names
+    /// the errors as before, and other codes stay GL_ERROR.
+    #[test]
+    fn out_of_memory_is_told_by_the_error_code() {
+        let codes = [glow::INVALID_VALUE, glow::OUT_OF_MEMORY];
+        let kind = allocation_error_kind(&codes);
+        assert_eq!(kind, ErrorKind::OutOfMemory);
+        let e = errors_during(&codes, "allocating", kind).unwrap_err();
+        assert_eq!(
+            e.message,
+            "GL_INVALID_VALUE, GL_OUT_OF_MEMORY during allocating"
+        );
+        assert_eq!(
+            allocation_error_kind(&[glow::INVALID_OPERATION]),
+            ErrorKind::GlError
+        );
+        assert_eq!(errors_during(&[], "x", ErrorKind::GlError), Ok(()));
+    }
 }
