@@ -210,6 +210,7 @@ pub unsafe extern "C" fn glcol_scene_create(
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
+            ..SceneConfig::default()
         };
         config.validate()?;
         let selector = crate::backend::create(request, d.get_proc_address, d.user_data)?;
