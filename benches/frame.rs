@@ -99,6 +99,7 @@ fn run(c: &Case, leaf: u32, eps: f32) {
     let mut scene = Scene::new(SceneConfig {
         epsilon: eps,
         max_polygons_per_box: leaf,
+        ..SceneConfig::default()
     })
     .unwrap();
     let ia = scene

@@ -114,6 +114,7 @@ fn run(case: &Case, sel: Option<Box<dyn Selector>>) -> (f64, u32, Vec<Frame>) {
     let config = SceneConfig {
         epsilon: 0.001,
         max_polygons_per_box: 0,
+        ..SceneConfig::default()
     };
     let mut s = match sel {
         Some(sel) => Scene::with_selector(config, sel).unwrap(),

@@ -29,7 +29,7 @@ mod scene;
 
 pub mod ffi;
 
-pub use backend::{Backend, Contact, QueryStats};
+pub use backend::{Backend, Contact, Pair, QueryStats};
 pub use error::{Error, ErrorKind, Result};
 pub use mesh::{Mesh, Positions};
 pub use scene::{MeshId, Scene, SceneConfig};
@@ -41,6 +41,6 @@ pub mod internals {
     pub use crate::backend::{
         create, CpuSelector, Engine, GlComputeSelector, GlSelectSelector, Request, Selector,
     };
-    pub use crate::geom::{predicates, tritri, Aabb};
+    pub use crate::geom::{adjacent, predicates, tritri, Aabb};
     pub use crate::gpu::{buffer, compat, Gl, MIN_RELATIVE_EPSILON};
 }

@@ -191,6 +191,11 @@ pub struct Mesh {
     pub(crate) poly_ids: Vec<u32>,
     pub(crate) leaves: LeafBoxes,
     pub(crate) enabled: bool,
+    /// Collided with itself by whole-scene queries.
+    pub(crate) self_collision: bool,
+    /// Filter: two meshes collide only if `a.group & b.mask != 0 && b.group & a.mask != 0`.
+    pub(crate) group: u32,
+    pub(crate) mask: u32,
     /// Bumped at every position change (lets GPU copies know they are stale).
     pub(crate) generation: u64,
 }
@@ -317,6 +322,9 @@ impl Mesh {
             poly_ids: order,
             leaves: lb,
             enabled: true,
+            self_collision: false,
+            group: 1,
+            mask: u32::MAX,
             generation: 0,
         })
     }

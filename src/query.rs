@@ -10,7 +10,9 @@ use crate::backend::{
 };
 use crate::error::Result;
 
-pub use crate::backend::{Contact, QueryStats};
+pub mod all;
+
+pub use crate::backend::{Contact, Pair, QueryStats};
 
 /// Buffers reused from query to query.
 #[derive(Default)]

@@ -3,9 +3,12 @@
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use crate::backend::{Backend, CpuSelector, QueryMeshes, Selector};
+use std::sync::Mutex;
+
+use crate::backend::{Backend, CpuSelector, Pair, QueryMeshes, Selector};
 use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::{Mesh, Positions};
+use crate::query::all::{self as whole, BroadPhase, SceneMesh, SelfScratch};
 use crate::query::{self, Contact, QueryStats, Workspace};
 
 /// Id of a mesh. Ids start at 1, are never 0 and never reused (unique in the process).
@@ -18,6 +21,9 @@ pub struct SceneConfig {
     pub epsilon: f32,
     /// Leaf size; 0 applies the paper's rule of thumb.
     pub max_polygons_per_box: u32,
+    /// Worker threads for queries: 0 = one per core the process may use, 1 = the calling
+    /// thread only. The answer is the same for every count.
+    pub threads: u32,
 }
 
 impl Default for SceneConfig {
@@ -25,6 +31,7 @@ impl Default for SceneConfig {
         SceneConfig {
             epsilon: 0.0,
             max_polygons_per_box: 0,
+            threads: 0,
         }
     }
 }
@@ -51,7 +58,35 @@ pub struct Scene {
     contacts: Vec<Contact>,
     /// The next answer, built here and swapped into `contacts` on success.
     scratch: Vec<Contact>,
+    /// The last successful whole-scene query's pairs, and the next answer.
+    pairs: Vec<Pair>,
+    pairs_scratch: Vec<Pair>,
+    /// Worker threads (None: the calling thread only), started once, asleep between
+    /// queries; one CPU engine and one self-collision scratch per worker.
+    pool: Option<rayon::ThreadPool>,
+    workers: Vec<Mutex<Worker>>,
+    broad: BroadPhase,
 }
+
+/// What one worker thread works with: its own CPU engine (box caches, scratch) and
+/// self-collision scratch.
+#[derive(Default)]
+struct Worker {
+    cpu: CpuSelector,
+    workspace: Workspace,
+    selfs: SelfScratch,
+}
+
+/// A unit of whole-scene work: a mesh pair (positions in the query's mesh list), or a run
+/// of one mesh's self-colliding leaf pairs.
+enum Task {
+    Pair(u32, u32),
+    Own(u32, Vec<(u32, u32)>),
+}
+
+/// Self-collision leaf pairs per task: small enough to spread a big mesh over the workers,
+/// big enough that a task is worth handing out.
+const LEAF_PAIRS_PER_TASK: usize = 8;
 
 impl Scene {
     /// A scene on the CPU backend.
@@ -62,6 +97,26 @@ impl Scene {
     /// A scene answering through `selector`.
     pub fn with_selector(config: SceneConfig, selector: Box<dyn Selector>) -> Result<Scene> {
         config.validate()?;
+        let threads = match config.threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n as usize,
+        };
+        let pool = if threads > 1 {
+            Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .thread_name(|i| format!("glcollide-{i}"))
+                    .build()
+                    .map_err(|e| {
+                        Error::new(
+                            ErrorKind::OutOfMemory,
+                            format!("could not start {threads} worker threads: {e}"),
+                        )
+                    })?,
+            )
+        } else {
+            None
+        };
         Ok(Scene {
             config,
             meshes: BTreeMap::new(),
@@ -69,6 +124,11 @@ impl Scene {
             workspace: Workspace::default(),
             contacts: Vec::new(),
             scratch: Vec::new(),
+            pairs: Vec::new(),
+            pairs_scratch: Vec::new(),
+            pool,
+            workers: (0..threads.max(1)).map(|_| Mutex::default()).collect(),
+            broad: BroadPhase::default(),
         })
     }
 
@@ -144,6 +204,24 @@ impl Scene {
             .map(drop)
             .ok_or_else(|| unknown(id))?;
         self.selector.mesh_destroyed(id);
+        for w in &mut self.workers {
+            lock(w).cpu.mesh_destroyed(id);
+        }
+        Ok(())
+    }
+
+    /// Whole-scene queries collide mesh `id` with itself (off by default).
+    pub fn set_self_collision(&mut self, id: MeshId, on: bool) -> Result<()> {
+        self.mesh_mut(id)?.self_collision = on;
+        Ok(())
+    }
+
+    /// Two different meshes a and b are collided only if `(a.group & b.mask) != 0 &&
+    /// (b.group & a.mask) != 0` (default group 1, mask all bits).
+    pub fn set_filter(&mut self, id: MeshId, group: u32, mask: u32) -> Result<()> {
+        let m = self.mesh_mut(id)?;
+        m.group = group;
+        m.mask = mask;
         Ok(())
     }
 
@@ -188,13 +266,19 @@ impl Scene {
             meshes.extend(
                 self.meshes
                     .iter()
-                    .filter(|(&id, m)| id != reference && m.enabled)
+                    .filter(|(&id, m)| {
+                        id != reference
+                            && m.enabled
+                            && r.group & m.mask != 0
+                            && m.group & r.mask != 0
+                    })
                     .map(|(&id, m)| (id, m)),
             );
         }
         let q = QueryMeshes {
             meshes,
             half_depth: f64::from(self.config.epsilon) / 2.0,
+            symmetric: false,
         };
         // The answer goes to `scratch`, swapped in only on success: after a failed query
         // `contacts()` still holds the last successful query's.
@@ -218,6 +302,130 @@ impl Scene {
         Ok(&self.contacts)
     }
 
+    /// Every pair of polygons that meet, from two different enabled meshes (whose filters
+    /// pass) or from one enabled mesh whose self-collision is on: sorted by (mesh_a,
+    /// polygon_a, mesh_b, polygon_b), each pair once, `(mesh_a, polygon_a) < (mesh_b,
+    /// polygon_b)`. The same answer for every backend and thread count. On failure
+    /// [`Scene::pairs`] keeps the last successful answer.
+    pub fn query_all(&mut self) -> Result<&[Pair]> {
+        self.selector.take_readbacks();
+        self.workspace.stats = QueryStats::default();
+        let prepared = self.selector.prepare(&mut self.meshes);
+        let res = prepared.and_then(|()| self.query_all_inner());
+        self.workspace.stats.readbacks = self.selector.take_readbacks();
+        res?;
+        std::mem::swap(&mut self.pairs, &mut self.pairs_scratch);
+        Ok(&self.pairs)
+    }
+
+    fn query_all_inner(&mut self) -> Result<()> {
+        let h = f64::from(self.config.epsilon) / 2.0;
+        let list: Vec<SceneMesh<'_>> = self
+            .meshes
+            .iter()
+            .filter(|(_, m)| m.enabled)
+            .map(|(&id, m)| SceneMesh {
+                id,
+                mesh: m,
+                self_collision: m.self_collision,
+                group: m.group,
+                mask: m.mask,
+            })
+            .collect();
+        let mut mesh_pairs = Vec::new();
+        whole::mesh_pairs(&list, h, &mut self.broad, &mut mesh_pairs);
+        let on_cpu = self.selector.backend() == Backend::Cpu;
+        let mut tasks: Vec<Task> = Vec::new();
+        if on_cpu {
+            tasks.extend(mesh_pairs.iter().map(|&(i, j)| Task::Pair(i, j)));
+        }
+        for (i, sm) in list.iter().enumerate() {
+            if sm.self_collision {
+                let mut w = lock(&self.workers[0]);
+                let leaf_pairs = whole::self_leaf_pairs(sm.mesh, h, &mut w.selfs);
+                tasks.extend(
+                    leaf_pairs
+                        .chunks(LEAF_PAIRS_PER_TASK)
+                        .map(|c| Task::Own(i as u32, c.to_vec())),
+                );
+            }
+        }
+        let workers = &self.workers;
+        let run = |t: &Task| -> Vec<Pair> {
+            let at = rayon::current_thread_index().unwrap_or(0) % workers.len();
+            let mut w = lock(&workers[at]);
+            let w = &mut *w;
+            let mut out = Vec::new();
+            match *t {
+                Task::Pair(i, j) => {
+                    let (a, b) = (&list[i as usize], &list[j as usize]);
+                    let q = QueryMeshes {
+                        meshes: vec![(a.id, a.mesh), (b.id, b.mesh)],
+                        half_depth: h,
+                        symmetric: true,
+                    };
+                    let mut found = Vec::new();
+                    // The CPU engine never fails.
+                    if query::run(&mut w.cpu, &q, &mut w.workspace, &mut found).is_ok() {
+                        out.extend(found.iter().map(|c| pair(a.id, c)));
+                    }
+                }
+                Task::Own(i, ref leaf_pairs) => {
+                    let sm = &list[i as usize];
+                    whole::self_pairs(sm.id, sm.mesh, h, leaf_pairs, &mut w.selfs, &mut out);
+                }
+            }
+            out
+        };
+        let found: Vec<Vec<Pair>> = match &self.pool {
+            Some(pool) => pool.install(|| {
+                use rayon::prelude::*;
+                tasks.par_iter().map(run).collect()
+            }),
+            None => tasks.iter().map(run).collect(),
+        };
+        let out = &mut self.pairs_scratch;
+        out.clear();
+        out.extend(found.into_iter().flatten());
+        if !on_cpu {
+            // A GL backend answers mesh pair by mesh pair, on the calling thread (its
+            // context is current here); with a band, both ways round, as its viewing
+            // volumes are the reference's only.
+            for &(i, j) in &mesh_pairs {
+                let (a, b) = (&list[i as usize], &list[j as usize]);
+                let mut ask = |r: &SceneMesh<'_>, o: &SceneMesh<'_>| -> Result<()> {
+                    let q = QueryMeshes {
+                        meshes: vec![(r.id, r.mesh), (o.id, o.mesh)],
+                        half_depth: h,
+                        symmetric: false,
+                    };
+                    let mut found = Vec::new();
+                    query::run(self.selector.as_mut(), &q, &mut self.workspace, &mut found)?;
+                    out.extend(found.iter().map(|c| {
+                        if r.id < o.id {
+                            pair(r.id, c)
+                        } else {
+                            pair(o.id, &swap(r.id, c))
+                        }
+                    }));
+                    Ok(())
+                };
+                ask(a, b)?;
+                if h > 0.0 {
+                    ask(b, a)?;
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+        Ok(())
+    }
+
+    /// The pairs of the last successful [`Scene::query_all`].
+    pub fn pairs(&self) -> &[Pair] {
+        &self.pairs
+    }
+
     /// The contacts of the last successful query.
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts
@@ -227,6 +435,31 @@ impl Scene {
     pub fn stats(&self) -> QueryStats {
         self.workspace.stats
     }
+}
+
+/// A contact of `reference` as a whole-scene pair (`reference` has the lower id).
+fn pair(reference: MeshId, c: &Contact) -> Pair {
+    Pair {
+        mesh_a: reference,
+        polygon_a: c.reference_polygon,
+        mesh_b: c.other_mesh,
+        polygon_b: c.other_polygon,
+    }
+}
+
+/// A contact of `reference` seen from its other mesh.
+fn swap(reference: MeshId, c: &Contact) -> Contact {
+    Contact {
+        other_mesh: reference,
+        reference_polygon: c.other_polygon,
+        other_polygon: c.reference_polygon,
+    }
+}
+
+/// A worker's state; a worker that panicked left nothing half-done that matters (scratch
+/// and caches are rebuilt as needed), so a poisoned lock is taken as it is.
+fn lock(w: &Mutex<Worker>) -> std::sync::MutexGuard<'_, Worker> {
+    w.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Mesh ids come from one process-wide counter: an id is never reused, and an id from

@@ -18,6 +18,7 @@ fn scene(epsilon: f32, leaf: u32, fused: bool) -> Scene {
     let config = SceneConfig {
         epsilon,
         max_polygons_per_box: leaf,
+        ..SceneConfig::default()
     };
     Scene::with_selector(config, sel).unwrap()
 }

@@ -58,6 +58,7 @@ fn run(case: &Case, make: &dyn Fn(SceneConfig) -> Scene) -> Vec<(Vec<Found>, Que
     let mut s = make(SceneConfig {
         epsilon: case.epsilon,
         max_polygons_per_box: 0,
+        ..SceneConfig::default()
     });
     let ids: Vec<MeshId> = case.meshes.iter().map(|m| add(&mut s, m)).collect();
     for &d in &case.disabled {
@@ -202,6 +203,7 @@ fn nan_in_a_host_buffer() {
         SceneConfig {
             epsilon: 0.001,
             max_polygons_per_box: 0,
+            ..SceneConfig::default()
         },
         Path::Whole,
     );
@@ -299,6 +301,7 @@ fn bound_meshes_raise_epsilon_from_their_real_extent() {
     let config = SceneConfig {
         epsilon: 0.001,
         max_polygons_per_box: 0,
+        ..SceneConfig::default()
     };
     for scale in [1e6f32, 0.0] {
         for path in [Path::Whole, Path::Steps] {
@@ -344,6 +347,7 @@ fn a_step_past_two_to_the_31_tests_is_refused() {
     let config = SceneConfig {
         epsilon: 0.001,
         max_polygons_per_box: 65536,
+        ..SceneConfig::default()
     };
     for path in [Path::Whole, Path::Steps] {
         let mut s = gl_scene(config, path);
@@ -365,6 +369,7 @@ fn room_past_the_gl_limit_is_refused_then_recovered() {
     let config = SceneConfig {
         epsilon: 0.001,
         max_polygons_per_box: 0,
+        ..SceneConfig::default()
     };
     let mut cpu = Scene::new(config).unwrap();
     let ca = add(&mut cpu, &a);

@@ -26,6 +26,7 @@ pub fn run(data: &[u8]) {
     let mut s = Scene::new(SceneConfig {
         epsilon: 0.0,
         max_polygons_per_box: 4,
+        ..SceneConfig::default()
     })
     .unwrap();
     let a = s

@@ -45,6 +45,7 @@ impl StepQuery for BruteSelector {
                                 let nv = q.mesh(vp).triangles(vp.index as usize, &mut vt);
                                 let nc = q.mesh(cp).triangles(cp.index as usize, &mut ct);
                                 polygon_meets(&vt, nv, &ct, nc, h)
+                                    || (q.symmetric && polygon_meets(&ct, nc, &vt, nv, h))
                             }
                         }
                     };

@@ -41,6 +41,20 @@ pub struct Contact {
     pub other_polygon: u32,
 }
 
+/// One colliding polygon pair of a whole-scene query: `(mesh_a, polygon_a) < (mesh_b,
+/// polygon_b)`; pairs sort by (mesh_a, polygon_a, mesh_b, polygon_b).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Pair {
+    /// The lower mesh id.
+    pub mesh_a: u32,
+    /// Polygon index in `mesh_a`.
+    pub polygon_a: u32,
+    /// The higher mesh id (or `mesh_a` for a self-collision pair).
+    pub mesh_b: u32,
+    /// Polygon index in `mesh_b` (above `polygon_a` when the meshes are one).
+    pub polygon_b: u32,
+}
+
 /// How much each step asked and found in the last query.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct QueryStats {
@@ -176,6 +190,11 @@ pub struct QueryMeshes<'a> {
     pub meshes: Vec<(u32, &'a Mesh)>,
     /// Half the viewing-volume depth: `epsilon / 2`.
     pub half_depth: f64,
+    /// With `half_depth > 0`: a polygon pair is a contact when either polygon meets the
+    /// other's viewing volume (whole-scene queries, whose answer must not depend on which
+    /// mesh comes first), not only when the other meets the reference's. Backends that
+    /// cannot (the GL ones) leave it to the caller to ask both ways.
+    pub symmetric: bool,
 }
 
 impl QueryMeshes<'_> {

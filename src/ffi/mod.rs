@@ -274,6 +274,7 @@ pub unsafe extern "C" fn glcol_scene_create(
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
+            ..SceneConfig::default()
         };
         config.validate()?;
         // SAFETY: the caller's contract: a non-NULL loader loads for the current context

@@ -1,5 +1,6 @@
 //! Geometry: boxes, exact predicates, the exact triangle test and viewing volumes.
 
+pub mod adjacent;
 pub mod polygon;
 pub mod predicates;
 pub mod sweep;

@@ -107,6 +107,7 @@ impl SafeScene {
             Scene::new(SceneConfig {
                 epsilon,
                 max_polygons_per_box: leaf,
+                ..SceneConfig::default()
             })
             .unwrap(),
         )
@@ -119,6 +120,7 @@ impl SafeScene {
         let config = SceneConfig {
             epsilon,
             max_polygons_per_box: leaf,
+            ..SceneConfig::default()
         };
         SafeScene(Scene::with_selector(config, Box::new(sel)).unwrap())
     }

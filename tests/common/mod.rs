@@ -153,6 +153,7 @@ pub fn cpu_scene(epsilon: f32, leaf: u32) -> Scene {
     Scene::new(SceneConfig {
         epsilon,
         max_polygons_per_box: leaf,
+        ..SceneConfig::default()
     })
     .unwrap()
 }

@@ -69,6 +69,8 @@ impl BoxCache {
 pub struct CpuSelector {
     scratch: steps::Scratch,
     caches: Vec<BoxCache>,
+    /// Mesh id -> index in `caches`.
+    cache_of: std::collections::HashMap<u32, usize>,
     /// Query mesh slot -> index in `caches`.
     slot_cache: Vec<usize>,
 }
@@ -79,20 +81,16 @@ impl CpuSelector {
         CpuSelector::default()
     }
 
-    /// Maps the query's meshes to their caches (made or revalidated), dropping the caches
-    /// of meshes no longer in the query.
+    /// Maps the query's meshes to their caches (made or revalidated). A cache lives until
+    /// its mesh is destroyed, so queries over different mesh pairs reuse each other's boxes.
     fn sync_caches(&mut self, q: &QueryMeshes<'_>) {
-        self.caches
-            .retain(|c| q.meshes.iter().any(|(id, _)| *id == c.id));
         self.slot_cache.clear();
         for &(id, m) in &q.meshes {
-            let i = match self.caches.iter().position(|c| c.id == id) {
-                Some(i) => i,
-                None => {
-                    self.caches.push(BoxCache::default());
-                    self.caches.len() - 1
-                }
-            };
+            let caches = &mut self.caches;
+            let i = *self.cache_of.entry(id).or_insert_with(|| {
+                caches.push(BoxCache::default());
+                caches.len() - 1
+            });
             self.caches[i].revalidate(id, m);
             self.slot_cache.push(i);
         }
@@ -112,6 +110,15 @@ impl Selector for CpuSelector {
 
     fn engine(&mut self) -> Engine<'_> {
         Engine::Whole(self)
+    }
+
+    fn mesh_destroyed(&mut self, id: u32) {
+        if let Some(i) = self.cache_of.remove(&id) {
+            self.caches.swap_remove(i);
+            if let Some(moved) = self.caches.get(i) {
+                self.cache_of.insert(moved.id, i);
+            }
+        }
     }
 }
 

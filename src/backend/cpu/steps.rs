@@ -55,8 +55,10 @@ pub(super) struct Scratch {
     /// Step 5: the polygons of the current leaf pair, prepared on first use.
     vprep: Vec<Stamped>,
     cprep: Vec<Stamped>,
-    /// Step 5 (`h > 0`): the reference polygons' viewing volumes, made on first use.
+    /// Step 5 (`h > 0`): the reference polygons' viewing volumes, made on first use; the
+    /// other polygons' too when the query is symmetric.
     cells: Vec<Option<[Cell; 2]>>,
+    ccells: Vec<Option<[Cell; 2]>>,
     /// Leaf pairs prepared so far (64 bits: never wraps, so a stale entry never looks
     /// fresh).
     stamp: u64,
@@ -275,14 +277,24 @@ impl Run<'_, '_> {
         if s.cprep.len() < others.len() {
             s.cprep.resize(others.len(), Stamped::default());
         }
+        let symmetric = h > 0.0 && q.symmetric;
         s.cells.clear();
         s.cells.resize(if h > 0.0 { refs.len() } else { 0 }, None);
+        s.ccells.clear();
+        s.ccells
+            .resize(if symmetric { others.len() } else { 0 }, None);
         for &(v, c) in &s.box_pairs {
             let (rp, op) = (refs[v as usize], others[c as usize]);
             let pv = s.vprep[v as usize].get(stamp, reference, rp);
             let pc = s.cprep[c as usize].get(stamp, m, op);
             let cells = (h > 0.0).then(|| &*s.cells[v as usize].get_or_insert_with(|| pv.cells(h)));
-            if pv.meets(pc, cells) {
+            let meets = pv.meets(pc, cells)
+                || symmetric
+                    && pc.meets(
+                        pv,
+                        Some(&*s.ccells[c as usize].get_or_insert_with(|| pc.cells(h))),
+                    );
+            if meets {
                 out.push(Contact {
                     other_mesh: id,
                     reference_polygon: reference.poly_ids[rp as usize],
