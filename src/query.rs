@@ -12,7 +12,7 @@ use crate::error::Result;
 
 pub mod all;
 
-pub use crate::backend::{Contact, Pair, QueryStats};
+pub use crate::backend::{Contact, QueryStats};
 
 /// Buffers reused from query to query.
 #[derive(Default)]
