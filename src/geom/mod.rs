@@ -1,5 +1,6 @@
 //! Geometry: boxes, exact predicates, the exact triangle test and viewing volumes.
 
+pub mod contact;
 pub mod predicates;
 pub mod tritri;
 pub mod volume;
