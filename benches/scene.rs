@@ -1,0 +1,167 @@
+//! Whole-scene queries (`Scene::query_all`, CPU backend) on the real simulation frames of
+//! ../shared/meshes/sim and on a generated scene of many small bodies: per frame, the update
+//! of every mesh (frame N, then N+1, alternately: a real deformation step) and one query with
+//! every mesh self-colliding, median over repeated frames, for 1 and 2 threads, exact and
+//! within 1e-3 of the scene's extent. Prints a Markdown table.
+//!   cargo bench --bench scene [-- FRAMES]
+
+use std::time::Instant;
+
+use glcollide::obj::load;
+use glcollide::{MeshId, Positions, Scene, SceneConfig};
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Meshes of one scene: topology and two frames of positions.
+struct Case {
+    name: String,
+    idx: Vec<Vec<u32>>,
+    frames: [Vec<Vec<[f32; 3]>>; 2],
+    extent: f32,
+}
+
+fn sim_case(scene: &str, frame: u32) -> Case {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/sim");
+    let mut idx = Vec::new();
+    let mut frames = [Vec::new(), Vec::new()];
+    for part in 0.. {
+        let p = |f: u32| format!("{dir}/{scene}/frame{f}_part{part:02}.obj");
+        if !std::path::Path::new(&p(frame)).exists() {
+            break;
+        }
+        let (a, b) = (load(p(frame)).unwrap(), load(p(frame + 1)).unwrap());
+        idx.push(a.triangles.clone());
+        frames[0].push(a.positions);
+        frames[1].push(b.positions);
+    }
+    let extent = extent_of(frames[0].iter().flatten());
+    Case {
+        name: format!("{scene} {frame}/{}", frame + 1),
+        idx,
+        frames,
+        extent,
+    }
+}
+
+fn extent_of<'a>(p: impl Iterator<Item = &'a [f32; 3]>) -> f32 {
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for q in p {
+        for k in 0..3 {
+            lo[k] = lo[k].min(q[k]);
+            hi[k] = hi[k].max(q[k]);
+        }
+    }
+    (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max)
+}
+
+/// `n` spheres of about 500 triangles in a box, packed so that neighbours touch; the
+/// second frame moves each by a small random step.
+fn spheres_case(n: usize) -> Case {
+    // A UV sphere with one vertex per pole: 2 + 22 * 11 vertices, 22 * 2 + 22 * 10 * 2 =
+    // 484 triangles.
+    let (rings, segs) = (12u32, 22u32);
+    let mut unit = vec![[0.0, 0.0, 1.0f32], [0.0, 0.0, -1.0]];
+    for r in 1..rings {
+        let th = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..segs {
+            let ph = 2.0 * std::f32::consts::PI * s as f32 / segs as f32;
+            unit.push([th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()]);
+        }
+    }
+    let at = |r: u32, s: u32| 2 + (r - 1) * segs + s % segs;
+    let mut tris = Vec::new();
+    for s in 0..segs {
+        tris.extend([0, at(1, s), at(1, s + 1)]);
+        tris.extend([1, at(rings - 1, s + 1), at(rings - 1, s)]);
+    }
+    for r in 1..rings - 1 {
+        for s in 0..segs {
+            let (a, b, c, d) = (at(r, s), at(r, s + 1), at(r + 1, s), at(r + 1, s + 1));
+            tris.extend([a, c, d, a, d, b]);
+        }
+    }
+    let side = (n as f32).cbrt().ceil() as usize;
+    let mut seed = 7u64;
+    let mut rnd = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+    };
+    let mut frames = [Vec::new(), Vec::new()];
+    for i in 0..n {
+        let c = [(i % side) as f32, (i / side % side) as f32, (i / side / side) as f32]
+            .map(|x| x * 1.9);
+        let j = [rnd(), rnd(), rnd()].map(|x| x * 0.05);
+        for (f, frame) in frames.iter_mut().enumerate() {
+            let o = [0, 1, 2].map(|k| c[k] + f as f32 * j[k]);
+            frame.push(unit.iter().map(|p| [0, 1, 2].map(|k| o[k] + p[k])).collect());
+        }
+    }
+    let extent = extent_of(frames[0].iter().flatten());
+    Case {
+        name: format!("{n} spheres of {} triangles", tris.len() / 3),
+        idx: vec![tris; n],
+        frames,
+        extent,
+    }
+}
+
+/// Median ms per frame (update every mesh + query_all), pairs in the last frame.
+fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, usize) {
+    let mut s = Scene::new(SceneConfig {
+        epsilon,
+        threads,
+        ..SceneConfig::default()
+    })
+    .unwrap();
+    let ids: Vec<MeshId> = case
+        .idx
+        .iter()
+        .zip(&case.frames[0])
+        .map(|(idx, p)| s.create_mesh(Positions::from_points(p), idx, 3).unwrap())
+        .collect();
+    for &id in &ids {
+        s.set_self_collision(id, true).unwrap();
+    }
+    let (mut total, mut query, mut pairs) = (Vec::new(), Vec::new(), 0);
+    for f in 0..frames {
+        let t = Instant::now();
+        for (&id, p) in ids.iter().zip(&case.frames[f % 2]) {
+            s.update_positions(id, 0, Positions::from_points(p)).unwrap();
+        }
+        let q = Instant::now();
+        pairs = s.query_all().unwrap().len();
+        total.push(t.elapsed().as_secs_f64() * 1e3);
+        query.push(q.elapsed().as_secs_f64() * 1e3);
+    }
+    (median(&mut total), median(&mut query), pairs)
+}
+
+fn main() {
+    let frames: usize = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(10);
+    let cases = [
+        sim_case("cloth-funnel", 227),
+        sim_case("armadillo-rollers", 326),
+        sim_case("rod-twist", 3036),
+        spheres_case(1000),
+    ];
+    println!("{frames} frames per row, median; every mesh self-colliding; CPU backend\n");
+    println!("| scene | epsilon | threads | ms per frame (update + query) | query ms | pairs |");
+    println!("|---|---|---:|---:|---:|---:|");
+    for case in &cases {
+        for rel in [0.0, 1e-3] {
+            for threads in [1, 2] {
+                let (t, q, n) = run(case, rel * case.extent, threads, frames);
+                let eps = if rel == 0.0 { "0".to_string() } else { "1e-3 extent".to_string() };
+                println!("| {} | {eps} | {threads} | {t:.2} | {q:.2} | {n} |", case.name);
+            }
+        }
+    }
+}
