@@ -94,8 +94,13 @@ typedef struct GlcolScene GlcolScene;
 typedef void *(*GlcolGetProcAddress)(void *user_data, const char *name);
 
 // How to make a scene. Fill it with `glcol_scene_desc_init`, then change what you need.
+//
+// Growing structs: `struct_size` may be `sizeof(GlcolSceneDesc)` of this header or of an
+// older one (0.1's, which ends before `threads`); the fields an older struct lacks take
+// their defaults and are never read. Any other size: GLCOL_STATUS_INVALID_ARGUMENT.
 typedef struct GlcolSceneDesc {
-  // `sizeof(GlcolSceneDesc)`: lets the struct grow in later versions.
+  // `sizeof(GlcolSceneDesc)` (or the size of an older version of it): lets the struct
+  // grow.
   uint32_t struct_size;
   // Which backend (default GLCOL_BACKEND_AUTO).
   enum GlcolBackend backend;
@@ -112,6 +117,11 @@ typedef struct GlcolSceneDesc {
   // Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
   // above).
   uint32_t max_polygons_per_box;
+  // Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
+  // use, 1 = the calling thread only. The answer is identical for every count; workers
+  // start once per scene and sleep between queries. A 0.1 struct (struct_size without
+  // this field) gets 0.
+  uint32_t threads;
 } GlcolSceneDesc;
 
 // A mesh to create. Positions and indices are copied; the caller keeps its arrays.
@@ -179,8 +189,9 @@ uint32_t glcol_abi_version(void);
 // Version of the loaded library ("0.1.0"), a static string.
 const char *glcol_version(void);
 
-// Fills every field of `desc` with its default: struct_size, GLCOL_BACKEND_AUTO, no
-// loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of thumb). NULL is ignored.
+// Fills every field of `desc` with its default: struct_size (this header's size),
+// GLCOL_BACKEND_AUTO, no loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of
+// thumb), threads 0 (one per core). NULL is ignored.
 //
 // # Safety
 // `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
@@ -218,6 +229,12 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 //   CPU backend's test at `epsilon`, so the contacts are the CPU backend's, exact at
 //   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
 //   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
+//
+// - `desc->struct_size`: `sizeof(GlcolSceneDesc)` of this header, or of 0.1's (without
+//   `threads`, which then is 0): a program built against 0.1 keeps working. Nothing past
+//   struct_size is read. Any other size: INVALID_ARGUMENT, the message names both sizes.
+// - `desc->threads`: workers started here, once for the scene (0 = one per core; at most
+//   1024, else INVALID_ARGUMENT).
 //
 // # Safety
 // `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,

@@ -85,28 +85,96 @@ fn aligned<T>(p: *const T, what: &str) -> FfiResult {
 }
 
 /// Reads a caller's struct: `struct_size` (its first field) first, since the rest may not
-/// be there, then, if it is the size this library knows, the whole struct.
+/// be there, then, if it is one of `sizes` (this library's `size_of::<T>()` first, then the
+/// sizes of older versions, each a prefix of `T`), that many bytes over `defaults`: the
+/// fields an older struct lacks keep their defaults and nothing past `struct_size` is read.
 ///
 /// # Safety
 /// `p` is non-null and aligned (checked by the caller), and points to readable memory of
-/// at least 4 bytes, and of `size_of::<T>()` bytes if its first 4 bytes say so.
-unsafe fn read_desc<T: Copy>(p: *const T, struct_size: *const u32, what: &str) -> Result<T, Fail> {
+/// at least 4 bytes, and of as many bytes as its first 4 bytes say when that is one of
+/// `sizes`. Every size in `sizes` ends at a field boundary of `T`, and the bytes of those
+/// fields, as C initialised them, are valid values of the fields' types.
+unsafe fn read_desc<T: Copy>(
+    p: *const T,
+    struct_size: *const u32,
+    what: &str,
+    sizes: &[(usize, &str)],
+    defaults: T,
+) -> Result<T, Fail> {
     // SAFETY: `struct_size` is the first field of `*p` (offset 0, so in bounds and aligned
     // as `p` is): an aligned read of the 4 bytes every version of the struct has.
     let got = unsafe { struct_size.read() };
-    check_struct_size(got, std::mem::size_of::<T>(), what)?;
-    // SAFETY: the struct is as large as `T` (its struct_size says so) and aligned.
-    Ok(unsafe { p.read() })
+    let n = check_struct_size(got, sizes, what)?;
+    debug_assert!(n <= std::mem::size_of::<T>());
+    let mut out = defaults;
+    // SAFETY: the caller's struct holds `n` readable bytes (its struct_size says so and `n`
+    // is one of `sizes`); `out` is a distinct local `T` of at least `n` bytes; the first
+    // `n` bytes are whole fields of `T` (the caller's contract), so `out` stays valid.
+    unsafe { std::ptr::copy_nonoverlapping(p.cast::<u8>(), std::ptr::addr_of_mut!(out).cast(), n) };
+    Ok(out)
 }
 
-/// Checks a caller struct's `struct_size` (the first field) against the one we know.
-fn check_struct_size(got: u32, want: usize, what: &str) -> FfiResult {
-    if got as usize != want {
-        return Err(invalid(format!(
-            "{what}.struct_size is {got}, expected {want} (sizeof({what}) of this glcollide; call the _init function or set it)"
-        )));
+/// Checks a caller struct's `struct_size` (the first field) against the sizes we know
+/// (`sizes[0]` this version's; each with a note saying which version it is); returns it.
+fn check_struct_size(got: u32, sizes: &[(usize, &str)], what: &str) -> Result<usize, Fail> {
+    if let Some(&(n, _)) = sizes.iter().find(|&&(n, _)| n == got as usize) {
+        return Ok(n);
     }
-    Ok(())
+    let want = sizes
+        .iter()
+        .map(|&(n, note)| format!("{n} ({note})"))
+        .collect::<Vec<_>>()
+        .join(" or ");
+    Err(invalid(format!(
+        "{what}.struct_size is {got}, expected {want}; call the _init function or set it"
+    )))
+}
+
+/// `GlcolSceneDesc` sizes accepted: this version's, and 0.1's (which ends before `threads`).
+const SCENE_DESC_SIZES: [(usize, &str); 2] = [
+    (
+        std::mem::size_of::<GlcolSceneDesc>(),
+        "sizeof(GlcolSceneDesc) of this glcollide",
+    ),
+    (
+        std::mem::offset_of!(GlcolSceneDesc, threads),
+        "glcollide 0.1's, without threads",
+    ),
+];
+
+/// `GlcolMeshDesc` sizes accepted (one version so far).
+const MESH_DESC_SIZES: [(usize, &str); 1] = [(
+    std::mem::size_of::<GlcolMeshDesc>(),
+    "sizeof(GlcolMeshDesc) of this glcollide",
+)];
+
+/// The most worker threads a scene may ask for (`GlcolSceneDesc::threads`).
+const MAX_THREADS: u32 = 1024;
+
+/// The defaults `glcol_scene_desc_init` writes.
+fn scene_desc_defaults() -> GlcolSceneDesc {
+    GlcolSceneDesc {
+        struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
+        backend: GlcolBackend::Auto as u32,
+        get_proc_address: None,
+        user_data: std::ptr::null_mut(),
+        epsilon: 0.0,
+        max_polygons_per_box: 0,
+        threads: 0,
+    }
+}
+
+/// The defaults `glcol_mesh_desc_init` writes.
+fn mesh_desc_defaults() -> GlcolMeshDesc {
+    GlcolMeshDesc {
+        struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
+        positions: std::ptr::null(),
+        vertex_count: 0,
+        position_stride: 0,
+        indices: std::ptr::null(),
+        polygon_count: 0,
+        vertices_per_polygon: 3,
+    }
 }
 
 /// `Positions` over the caller's array after every check that can be made.
@@ -168,8 +236,9 @@ pub extern "C" fn glcol_version() -> *const c_char {
     concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
 }
 
-/// Fills every field of `desc` with its default: struct_size, GLCOL_BACKEND_AUTO, no
-/// loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of thumb). NULL is ignored.
+/// Fills every field of `desc` with its default: struct_size (this header's size),
+/// GLCOL_BACKEND_AUTO, no loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of
+/// thumb), threads 0 (one per core). NULL is ignored.
 ///
 /// # Safety
 /// `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
@@ -179,16 +248,7 @@ pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
         return;
     }
     // SAFETY: non-null (checked); the caller's contract: writable and aligned.
-    unsafe {
-        desc.write(GlcolSceneDesc {
-            struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
-            backend: GlcolBackend::Auto as u32,
-            get_proc_address: None,
-            user_data: std::ptr::null_mut(),
-            epsilon: 0.0,
-            max_polygons_per_box: 0,
-        })
-    };
+    unsafe { desc.write(scene_desc_defaults()) };
 }
 
 /// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
@@ -202,17 +262,7 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
         return;
     }
     // SAFETY: non-null (checked); the caller's contract: writable and aligned.
-    unsafe {
-        desc.write(GlcolMeshDesc {
-            struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
-            positions: std::ptr::null(),
-            vertex_count: 0,
-            position_stride: 0,
-            indices: std::ptr::null(),
-            polygon_count: 0,
-            vertices_per_polygon: 3,
-        })
-    };
+    unsafe { desc.write(mesh_desc_defaults()) };
 }
 
 /// Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
@@ -241,6 +291,12 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
 ///   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
 ///   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
 ///
+/// - `desc->struct_size`: `sizeof(GlcolSceneDesc)` of this header, or of 0.1's (without
+///   `threads`, which then is 0): a program built against 0.1 keeps working. Nothing past
+///   struct_size is read. Any other size: INVALID_ARGUMENT, the message names both sizes.
+/// - `desc->threads`: workers started here, once for the scene (0 = one per core; at most
+///   1024, else INVALID_ARGUMENT).
+///
 /// # Safety
 /// `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,
 /// aligned as C aligns it (a misaligned `desc` is refused: INVALID_ARGUMENT). `out_scene` is
@@ -262,6 +318,8 @@ pub unsafe extern "C" fn glcol_scene_create(
                 desc,
                 std::ptr::addr_of!((*desc).struct_size),
                 "GlcolSceneDesc",
+                &SCENE_DESC_SIZES,
+                scene_desc_defaults(),
             )
         }?;
         let request = GlcolBackend::request(d.backend).ok_or_else(|| {
@@ -271,10 +329,16 @@ pub unsafe extern "C" fn glcol_scene_create(
                 GlcolBackend::max_value()
             ))
         })?;
+        if d.threads > MAX_THREADS {
+            return Err(invalid(format!(
+                "threads is {}; it must be 0 (one per core) to {MAX_THREADS}",
+                d.threads
+            )));
+        }
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
-            ..SceneConfig::default()
+            threads: d.threads,
         };
         config.validate()?;
         // SAFETY: the caller's contract: a non-NULL loader loads for the current context
@@ -363,6 +427,8 @@ pub unsafe extern "C" fn glcol_mesh_create(
                 desc,
                 std::ptr::addr_of!((*desc).struct_size),
                 "GlcolMeshDesc",
+                &MESH_DESC_SIZES,
+                mesh_desc_defaults(),
             )
         }?;
         let k = d.vertices_per_polygon;

@@ -74,10 +74,15 @@ pub mod raw {
 }
 
 /// How to make a scene. Fill it with `glcol_scene_desc_init`, then change what you need.
+///
+/// Growing structs: `struct_size` may be `sizeof(GlcolSceneDesc)` of this header or of an
+/// older one (0.1's, which ends before `threads`); the fields an older struct lacks take
+/// their defaults and are never read. Any other size: GLCOL_STATUS_INVALID_ARGUMENT.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GlcolSceneDesc {
-    /// `sizeof(GlcolSceneDesc)`: lets the struct grow in later versions.
+    /// `sizeof(GlcolSceneDesc)` (or the size of an older version of it): lets the struct
+    /// grow.
     pub struct_size: u32,
     /// Which backend (default GLCOL_BACKEND_AUTO).
     pub backend: raw::GlcolBackend,
@@ -94,6 +99,11 @@ pub struct GlcolSceneDesc {
     /// Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
     /// above).
     pub max_polygons_per_box: u32,
+    /// Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
+    /// use, 1 = the calling thread only. The answer is identical for every count; workers
+    /// start once per scene and sleep between queries. A 0.1 struct (struct_size without
+    /// this field) gets 0.
+    pub threads: u32,
 }
 
 /// A mesh to create. Positions and indices are copied; the caller keeps its arrays.
