@@ -158,3 +158,51 @@ pub struct GlcolObjMesh {
     /// Always 3 (larger faces are split into fans).
     pub vertices_per_polygon: u32,
 }
+
+/// One colliding polygon pair of `glcol_query_all`: (mesh_a, polygon_a) < (mesh_b,
+/// polygon_b), ids comparing first (so mesh_a <= mesh_b, and polygon_a < polygon_b when
+/// the two meshes are one: a self-collision pair).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GlcolPair {
+    /// The lower mesh id.
+    pub mesh_a: GlcolMeshId,
+    /// Polygon index in `mesh_a`.
+    pub polygon_a: u32,
+    /// The higher mesh id, or `mesh_a` for a self-collision pair.
+    pub mesh_b: GlcolMeshId,
+    /// Polygon index in `mesh_b`.
+    pub polygon_b: u32,
+}
+
+/// `GlcolContactGeometry::flags`: the closed polygons meet (else they are only within the
+/// query's epsilon band).
+pub const GLCOL_CONTACT_INTERSECTING: u32 = 1 << 0;
+
+/// `GlcolContactGeometry::flags`: the polygons meet and lie in one plane (then depth is 0
+/// and normal is polygon a's normal).
+pub const GLCOL_CONTACT_COPLANAR: u32 = 1 << 1;
+
+/// Geometry of one contact or pair (`glcol_query_geometry`). Polygon a is the reference
+/// polygon of a `glcol_query` contact, or `polygon_a` of a `glcol_query_all` pair. Computed
+/// in double precision, each value then rounded to the nearest float (saturating at
+/// +-FLT_MAX, never infinite or NaN).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlcolContactGeometry {
+    /// Intersecting: one end of the intersection of the two polygons (coplanar: of the
+    /// overlap's longest extent). Band only: the point of polygon a closest to polygon b.
+    pub point_a: [f32; 3],
+    /// Intersecting: the other end (equal to point_a when they meet in one point). Band
+    /// only: the point of polygon b closest to polygon a.
+    pub point_b: [f32; 3],
+    /// Unit (within float rounding). Intersecting: moving polygon a by depth * normal
+    /// separates the two polygons (the smallest such translation). Band only: from b
+    /// towards a.
+    pub normal: [f32; 3],
+    /// Intersecting: >= 0, the length of that smallest separating translation (the
+    /// penetration depth). Band only: minus the distance between the polygons.
+    pub depth: f32,
+    /// GLCOL_CONTACT_* bits.
+    pub flags: u32,
+}
