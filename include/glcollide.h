@@ -26,6 +26,14 @@
 // ABI version: bumps on any incompatible change of the C API (and with it the soname).
 #define GLCOL_ABI_VERSION 1
 
+// `GlcolContactGeometry::flags`: the closed polygons meet (else they are only within the
+// query's epsilon band).
+#define GLCOL_CONTACT_INTERSECTING (1 << 0)
+
+// `GlcolContactGeometry::flags`: the polygons meet and lie in one plane (then depth is 0
+// and normal is polygon a's normal).
+#define GLCOL_CONTACT_COPLANAR (1 << 1)
+
 // How a call went. Values are ABI: never renumber; new values are appended.
 typedef enum GlcolStatus {
   // Success.
@@ -94,8 +102,13 @@ typedef struct GlcolScene GlcolScene;
 typedef void *(*GlcolGetProcAddress)(void *user_data, const char *name);
 
 // How to make a scene. Fill it with `glcol_scene_desc_init`, then change what you need.
+//
+// Growing structs: `struct_size` may be `sizeof(GlcolSceneDesc)` of this header or of an
+// older one (0.1's, which ends before `threads`); the fields an older struct lacks take
+// their defaults and are never read. Any other size: GLCOL_STATUS_INVALID_ARGUMENT.
 typedef struct GlcolSceneDesc {
-  // `sizeof(GlcolSceneDesc)`: lets the struct grow in later versions.
+  // `sizeof(GlcolSceneDesc)` (or the size of an older version of it): lets the struct
+  // grow.
   uint32_t struct_size;
   // Which backend (default GLCOL_BACKEND_AUTO).
   enum GlcolBackend backend;
@@ -112,6 +125,11 @@ typedef struct GlcolSceneDesc {
   // Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
   // above).
   uint32_t max_polygons_per_box;
+  // Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
+  // use, 1 = the calling thread only. The answer is identical for every count; workers
+  // start once per scene and sleep between queries. A 0.1 struct (struct_size without
+  // this field) gets 0.
+  uint32_t threads;
 } GlcolSceneDesc;
 
 // A mesh to create. Positions and indices are copied; the caller keeps its arrays.
@@ -146,6 +164,42 @@ typedef struct GlcolContact {
   uint32_t other_polygon;
 } GlcolContact;
 
+// One colliding polygon pair of `glcol_query_all`: (mesh_a, polygon_a) < (mesh_b,
+// polygon_b), ids comparing first (so mesh_a <= mesh_b, and polygon_a < polygon_b when
+// the two meshes are one: a self-collision pair).
+typedef struct GlcolPair {
+  // The lower mesh id.
+  GlcolMeshId mesh_a;
+  // Polygon index in `mesh_a`.
+  uint32_t polygon_a;
+  // The higher mesh id, or `mesh_a` for a self-collision pair.
+  GlcolMeshId mesh_b;
+  // Polygon index in `mesh_b`.
+  uint32_t polygon_b;
+} GlcolPair;
+
+// Geometry of one contact or pair (`glcol_query_geometry`). Polygon a is the reference
+// polygon of a `glcol_query` contact, or `polygon_a` of a `glcol_query_all` pair. Computed
+// in double precision, each value then rounded to the nearest float (saturating at
+// +-FLT_MAX, never infinite or NaN).
+typedef struct GlcolContactGeometry {
+  // Intersecting: one end of the intersection of the two polygons (coplanar: of the
+  // overlap's longest extent). Band only: the point of polygon a closest to polygon b.
+  float point_a[3];
+  // Intersecting: the other end (equal to point_a when they meet in one point). Band
+  // only: the point of polygon b closest to polygon a.
+  float point_b[3];
+  // Unit (within float rounding). Intersecting: moving polygon a by depth * normal
+  // separates the two polygons (the smallest such translation). Band only: from b
+  // towards a.
+  float normal[3];
+  // Intersecting: >= 0, the length of that smallest separating translation (the
+  // penetration depth). Band only: minus the distance between the polygons.
+  float depth;
+  // GLCOL_CONTACT_* bits.
+  uint32_t flags;
+} GlcolContactGeometry;
+
 // A triangle mesh read by `glcol_obj_load` (arrays owned by the library until
 // `glcol_obj_free`).
 typedef struct GlcolObjMesh {
@@ -179,8 +233,9 @@ uint32_t glcol_abi_version(void);
 // Version of the loaded library ("0.1.0"), a static string.
 const char *glcol_version(void);
 
-// Fills every field of `desc` with its default: struct_size, GLCOL_BACKEND_AUTO, no
-// loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of thumb). NULL is ignored.
+// Fills every field of `desc` with its default: struct_size (this header's size),
+// GLCOL_BACKEND_AUTO, no loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of
+// thumb), threads 0 (one per core). NULL is ignored.
 //
 // # Safety
 // `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
@@ -218,6 +273,12 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 //   CPU backend's test at `epsilon`, so the contacts are the CPU backend's, exact at
 //   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
 //   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
+//
+// - `desc->struct_size`: `sizeof(GlcolSceneDesc)` of this header, or of 0.1's (without
+//   `threads`, which then is 0): a program built against 0.1 keeps working. Nothing past
+//   struct_size is read. Any other size: INVALID_ARGUMENT, the message names both sizes.
+// - `desc->threads`: workers started here, once for the scene (0 = one per core; at most
+//   1024, else INVALID_ARGUMENT).
 //
 // # Safety
 // `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,
@@ -307,6 +368,83 @@ enum GlcolStatus glcol_query(struct GlcolScene *scene,
                              GlcolMeshId reference,
                              const struct GlcolContact **out_contacts,
                              size_t *out_count);
+
+// Whole-scene queries (`glcol_query_all`) also collide `mesh` with itself when `on` (off
+// by default). Two polygons of one mesh that share a vertex index are adjacent: such a
+// pair is reported only when the closed polygons meet somewhere other than their shared
+// vertices and edges (a fold onto a neighbour, a vertex pushed through the next
+// triangle), at every epsilon. The two triangles of a quad are one polygon, never a pair;
+// vertices at one position with different indices are not shared. `glcol_query` never
+// reports same-mesh pairs. Statuses: NULL_POINTER, UNKNOWN_MESH.
+//
+// # Safety
+// `scene` is NULL or a live scene.
+enum GlcolStatus glcol_mesh_set_self_collision(struct GlcolScene *scene, GlcolMeshId mesh, bool on);
+
+// Pair filtering: two different meshes a and b are collided (by `glcol_query` and
+// `glcol_query_all`) only if `(a.group & b.mask) != 0 && (b.group & a.mask) != 0`.
+// Default group 1, mask 0xFFFFFFFF (everything collides). Self-collision is switched by
+// `glcol_mesh_set_self_collision` alone. Statuses: NULL_POINTER, UNKNOWN_MESH.
+//
+// # Safety
+// `scene` is NULL or a live scene.
+enum GlcolStatus glcol_mesh_set_filter(struct GlcolScene *scene,
+                                       GlcolMeshId mesh,
+                                       uint32_t group,
+                                       uint32_t mask);
+
+// Every pair of polygons that meet, in one call (the meaning of `glcol_query`: exact at
+// epsilon 0, the viewing-volume band at epsilon > 0), from two different enabled meshes
+// whose filters pass, or from one enabled mesh whose self-collision is on. Each pair
+// once, (mesh_a, polygon_a) < (mesh_b, polygon_b). On success `*out_pairs` points at
+// `*out_count` pairs sorted by (mesh_a, polygon_a, mesh_b, polygon_b) (NULL when the count
+// is 0); the array is owned by the scene and stays valid until the next call that takes
+// this scene non-const (`glcol_query_geometry` excepted: it leaves it alone). The answer
+// does not depend on the backend, the thread count or the order meshes were created in;
+// meshes whose root boxes are apart cost next to nothing. On failure nothing is written
+// and `glcol_query_geometry` refuses until the next successful query.
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_pairs` and `out_count` are NULL or writable and
+// aligned.
+enum GlcolStatus glcol_query_all(struct GlcolScene *scene,
+                                 const struct GlcolPair **out_pairs,
+                                 size_t *out_count);
+
+// Geometry of the pairs of the scene's last successful `glcol_query` or
+// `glcol_query_all`, in the same order: entry i describes contact (or pair) i; polygon a
+// is the reference polygon (or polygon_a), b the other. Computed at this call (a query not
+// followed by it costs nothing more), in double precision from the float positions in a
+// frame local to the pair, each value then rounded to the nearest float (normals stay
+// unit within that rounding; no NaN, no infinity). On success `*out_geometry` points at
+// `*out_count` entries (NULL when 0), owned by the scene like the pairs (valid until the
+// next non-const call); the contacts or pairs arrays stay valid.
+// Rules (exact decisions, as the query's):
+// - INTERSECTING: the closed polygons meet. point_a, point_b: the two farthest-apart
+//   points of their intersection; depth, normal: the smallest translation of a that
+//   separates them (separating axes: the face normals and edge-edge crosses; for a quad,
+//   of its hull: the quad if planar and convex, else its vertices' tetrahedron, an upper
+//   bound that still separates).
+// - COPLANAR (with INTERSECTING): all vertices in one plane; depth 0, normal = a's
+//   normal, points: the ends of the overlap's longest extent.
+// - Neither (pairs within the epsilon band only): closest points, depth = minus their
+//   distance, normal from b towards a.
+// - A quad is its two triangles (v0,v1,v2), (v0,v2,v3). A degenerate polygon (a segment or
+//   a point) gets the same meanings. Where a rule gives a zero normal, the fallback is a's
+//   normal, then b's, then the cross of the two segments' directions, then a unit vector
+//   perpendicular to the line holding every vertex, then +z.
+//
+// Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
+// last query failed, or when the meshes changed since it (create, update, enable,
+// destroy, filter, self-collision, GL buffer binding); UNSUPPORTED when a mesh of the
+// answer reads its positions from a GL buffer (glcol_mesh_bind_gl_buffer).
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
+// aligned.
+enum GlcolStatus glcol_query_geometry(struct GlcolScene *scene,
+                                      const struct GlcolContactGeometry **out_geometry,
+                                      size_t *out_count);
 
 // GL_COMPUTE backend only: from now on the mesh reads its positions from the host's GL
 // buffer object `gl_buffer` at each query, with no copy through the CPU; the host keeps

@@ -20,6 +20,7 @@ cargo build --release --locked
 make -s -C examples-c
 examples-c/build/api_errors
 examples-c/build/readme_example
+examples-c/build/abi_v01 ../shared/meshes
 # README.md shows examples-c/readme_example.c (from its #include on): keep the two identical.
 diff -u <(sed -n '/^#include <glcollide.h>/,$p' examples-c/readme_example.c) \
   <(sed -n '/^```c$/,/^```$/p' README.md | sed '1d;$d') ||

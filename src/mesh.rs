@@ -189,6 +189,8 @@ pub struct Mesh {
     pub(crate) polys: Vec<u32>,
     /// Leaf-order position -> the caller's polygon index.
     pub(crate) poly_ids: Vec<u32>,
+    /// The caller's polygon index -> its leaf-order position (the inverse of `poly_ids`).
+    pub(crate) poly_leaf: Vec<u32>,
     pub(crate) leaves: LeafBoxes,
     pub(crate) enabled: bool,
     /// Collided with itself by whole-scene queries.
@@ -312,6 +314,10 @@ impl Mesh {
             root: Aabb::EMPTY,
         };
         lb.refit(&slots);
+        let mut poly_leaf = vec![0u32; order.len()];
+        for (at, &p) in order.iter().enumerate() {
+            poly_leaf[p as usize] = at as u32;
+        }
         Ok(Mesh {
             slots,
             slot_vertex,
@@ -320,6 +326,7 @@ impl Mesh {
             k,
             polys,
             poly_ids: order,
+            poly_leaf,
             leaves: lb,
             enabled: true,
             self_collision: false,
@@ -451,6 +458,13 @@ impl Mesh {
         b
     }
 
+    /// The triangles of the caller's polygon `polygon` (as [`Mesh::triangles`]), or `None`
+    /// when the mesh has no such polygon.
+    pub fn polygon_triangles(&self, polygon: u32, out: &mut [[P3; 3]; 2]) -> Option<usize> {
+        let at = *self.poly_leaf.get(polygon as usize)?;
+        Some(self.triangles(at as usize, out))
+    }
+
     /// The triangles of leaf-ordered polygon `p`: one for a triangle, (v0,v1,v2) and
     /// (v0,v2,v3) for a quad. Returns how many were written.
     #[inline]
@@ -501,6 +515,9 @@ mod tests {
         let mut m = Mesh::new(Positions::from_points(&v), &t, 3, 64).unwrap();
         m.leaves.assert_well_formed(&m.polys, 3, &m.slots);
         let mut ids = m.poly_ids.clone();
+        for (at, &p) in ids.iter().enumerate() {
+            assert_eq!(m.poly_leaf[p as usize] as usize, at);
+        }
         ids.sort_unstable();
         assert_eq!(ids, (0..t.len() as u32 / 3).collect::<Vec<_>>());
         let moved: Vec<[f32; 3]> = v

@@ -6,7 +6,9 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;
 
 use crate::backend::{Backend, CpuSelector, Pair, QueryMeshes, Selector};
-use crate::error::{Error, ErrorKind, Result};
+use crate::error::{try_reserve, Error, ErrorKind, Result};
+use crate::geom::contact::{contact_geometry, ContactGeometry};
+use crate::geom::P3;
 use crate::mesh::{Mesh, Positions};
 use crate::query::all::{self as whole, BroadPhase, SceneMesh, SelfScratch};
 use crate::query::{self, Contact, QueryStats, Workspace};
@@ -66,6 +68,18 @@ pub struct Scene {
     pool: Option<rayon::ThreadPool>,
     workers: Vec<Mutex<Worker>>,
     broad: BroadPhase,
+    /// Which answer [`Scene::contact_geometry`] describes (`None` before any query, after a
+    /// failed one, or after any change to the meshes), and its geometry once computed.
+    last: LastQuery,
+    geometry: Vec<ContactGeometry>,
+}
+
+/// The last successful query whose answer still describes the meshes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LastQuery {
+    None,
+    One(MeshId),
+    All,
 }
 
 /// What one worker thread works with: its own CPU engine (box caches, scratch) and
@@ -129,6 +143,8 @@ impl Scene {
             pool,
             workers: (0..threads.max(1)).map(|_| Mutex::default()).collect(),
             broad: BroadPhase::default(),
+            last: LastQuery::None,
+            geometry: Vec::new(),
         })
     }
 
@@ -162,6 +178,7 @@ impl Scene {
             )
         })?;
         self.meshes.insert(id, mesh);
+        self.forget_query();
         Ok(id)
     }
 
@@ -188,12 +205,14 @@ impl Scene {
     ) -> Result<()> {
         self.mesh_mut(id)?.update_positions(first, positions)?;
         self.selector.mesh_updated(id);
+        self.forget_query();
         Ok(())
     }
 
     /// Enables or disables mesh `id` (a disabled mesh costs nothing in a query).
     pub fn set_enabled(&mut self, id: MeshId, enabled: bool) -> Result<()> {
         self.mesh_mut(id)?.enabled = enabled;
+        self.forget_query();
         Ok(())
     }
 
@@ -207,12 +226,14 @@ impl Scene {
         for w in &mut self.workers {
             lock(w).cpu.mesh_destroyed(id);
         }
+        self.forget_query();
         Ok(())
     }
 
     /// Whole-scene queries collide mesh `id` with itself (off by default).
     pub fn set_self_collision(&mut self, id: MeshId, on: bool) -> Result<()> {
         self.mesh_mut(id)?.self_collision = on;
+        self.forget_query();
         Ok(())
     }
 
@@ -222,6 +243,7 @@ impl Scene {
         let m = self.mesh_mut(id)?;
         m.group = group;
         m.mask = mask;
+        self.forget_query();
         Ok(())
     }
 
@@ -235,7 +257,10 @@ impl Scene {
         stride: usize,
     ) -> Result<()> {
         let m = self.meshes.get(&id).ok_or_else(|| unknown(id))?;
-        self.selector.bind_gl_buffer(id, m, buffer, offset, stride)
+        self.selector
+            .bind_gl_buffer(id, m, buffer, offset, stride)?;
+        self.forget_query();
+        Ok(())
     }
 
     /// Deletes the backend's GL objects (GL backends; the scene's context must be current).
@@ -247,6 +272,7 @@ impl Scene {
     /// mesh, reference polygon, other polygon), each pair once. A disabled reference has
     /// no contacts.
     pub fn query(&mut self, reference: MeshId) -> Result<&[Contact]> {
+        self.forget_query();
         if !self.meshes.contains_key(&reference) {
             return Err(unknown(reference));
         }
@@ -299,6 +325,7 @@ impl Scene {
         self.workspace.stats.readbacks = self.selector.take_readbacks();
         res?;
         std::mem::swap(&mut self.scratch, &mut self.contacts);
+        self.last = LastQuery::One(reference);
         Ok(&self.contacts)
     }
 
@@ -308,6 +335,7 @@ impl Scene {
     /// polygon_b)`. The same answer for every backend and thread count. On failure
     /// [`Scene::pairs`] keeps the last successful answer.
     pub fn query_all(&mut self) -> Result<&[Pair]> {
+        self.forget_query();
         self.selector.take_readbacks();
         self.workspace.stats = QueryStats::default();
         let prepared = self.selector.prepare(&mut self.meshes);
@@ -315,6 +343,7 @@ impl Scene {
         self.workspace.stats.readbacks = self.selector.take_readbacks();
         res?;
         std::mem::swap(&mut self.pairs, &mut self.pairs_scratch);
+        self.last = LastQuery::All;
         Ok(&self.pairs)
     }
 
@@ -429,6 +458,92 @@ impl Scene {
     /// The contacts of the last successful query.
     pub fn contacts(&self) -> &[Contact] {
         &self.contacts
+    }
+
+    /// From now on [`Scene::contact_geometry`] refuses until the next successful query (a
+    /// caller whose own handling of a query's answer failed calls it; every change to the
+    /// meshes does).
+    pub fn forget_query(&mut self) {
+        self.last = LastQuery::None;
+        self.geometry.clear();
+    }
+
+    /// The contact geometry of the last successful query's answer, entry `i` for contact
+    /// (or pair) `i`: polygon `a` is the reference polygon (or `polygon_a`), `b` the other.
+    /// Computed here, on demand (see [`contact_geometry`] for every rule). InvalidArgument
+    /// before any query, after a failed one, or after any change to the meshes since
+    /// (create, update, enable, destroy, filter, self-collision, GL buffer binding);
+    /// Unsupported when a mesh of the answer reads its positions from a GL buffer.
+    pub fn contact_geometry(&mut self) -> Result<&[ContactGeometry]> {
+        let items: Vec<(MeshId, u32, MeshId, u32)> = match self.last {
+            LastQuery::None => {
+                return Err(Error::invalid(
+                    "no contact geometry: there was no successful glcol_query or \
+                     glcol_query_all since the scene was made, its meshes last changed, or a \
+                     query last failed",
+                ))
+            }
+            LastQuery::One(r) => self
+                .contacts
+                .iter()
+                .map(|c| (r, c.reference_polygon, c.other_mesh, c.other_polygon))
+                .collect(),
+            LastQuery::All => self
+                .pairs
+                .iter()
+                .map(|p| (p.mesh_a, p.polygon_a, p.mesh_b, p.polygon_b))
+                .collect(),
+        };
+        if self.geometry.len() == items.len() && !items.is_empty() {
+            return Ok(&self.geometry);
+        }
+        for &(a, _, b, _) in &items {
+            for id in [a, b] {
+                if self.selector.gl_bound(id) {
+                    return Err(Error::new(
+                        ErrorKind::Unsupported,
+                        format!(
+                            "mesh {id} reads its positions from a GL buffer: contact geometry \
+                             needs positions on the CPU"
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut out = Vec::new();
+        try_reserve(&mut out, items.len(), "the contact geometry")?;
+        let meshes = &self.meshes;
+        let one = |&(a, pa, b, pb): &(MeshId, u32, MeshId, u32)| -> Result<ContactGeometry> {
+            let mut ta = [[P3::default(); 3]; 2];
+            let mut tb = [[P3::default(); 3]; 2];
+            let ma = meshes.get(&a).ok_or_else(|| unknown(a))?;
+            let mb = meshes.get(&b).ok_or_else(|| unknown(b))?;
+            let bad =
+                |m, p| Error::new(ErrorKind::Internal, format!("mesh {m} has no polygon {p}"));
+            let na = ma
+                .polygon_triangles(pa, &mut ta)
+                .ok_or_else(|| bad(a, pa))?;
+            let nb = mb
+                .polygon_triangles(pb, &mut tb)
+                .ok_or_else(|| bad(b, pb))?;
+            Ok(contact_geometry(&ta, na, &tb, nb))
+        };
+        match &self.pool {
+            Some(pool) if items.len() > 256 => {
+                let found: Result<Vec<ContactGeometry>> = pool.install(|| {
+                    use rayon::prelude::*;
+                    items.par_iter().map(one).collect()
+                });
+                out = found?;
+            }
+            _ => {
+                for it in &items {
+                    out.push(one(it)?);
+                }
+            }
+        }
+        self.geometry = out;
+        Ok(&self.geometry)
     }
 
     /// What each step asked and found in the last query.

@@ -116,9 +116,16 @@ fn cloth_funnel_self_and_pairs_exact_and_within_a_band() {
             assert_eq!(got, exact, "cloth self pairs, exact");
         } else {
             let within = brute_self(&parts[cloth], band);
-            assert!(got.len() > exact.len(), "{} self pairs in the band", got.len());
+            assert!(
+                got.len() > exact.len(),
+                "{} self pairs in the band",
+                got.len()
+            );
             assert!(exact.iter().all(|p| got.binary_search(p).is_ok()), "missed");
-            assert!(got.iter().all(|p| within.binary_search(p).is_ok()), "outside the band");
+            assert!(
+                got.iter().all(|p| within.binary_search(p).is_ok()),
+                "outside the band"
+            );
         }
         // Every mesh pair.
         for a in 0..4 {
@@ -203,15 +210,20 @@ fn filters_skip_mesh_pairs_in_both_queries() {
     let blade = TestMesh::from_obj(&shared_mesh("scissors_blade"));
     let (lo, hi) = bounds(&organ.pos);
     let e = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
-    let far = organ
-        .pos
-        .iter()
-        .copied()
-        .fold([f32::NEG_INFINITY; 3], |a, p| if p[0] > a[0] { p } else { a });
-    let ins = place_scaled(&blade.pos, [far[0] - 0.01 * e, far[1], far[2]], 1.3, 0.15 * e / {
-        let (l, h) = bounds(&blade.pos);
-        (0..3).map(|k| h[k] - l[k]).fold(0.0, f32::max)
-    });
+    let far =
+        organ.pos.iter().copied().fold(
+            [f32::NEG_INFINITY; 3],
+            |a, p| if p[0] > a[0] { p } else { a },
+        );
+    let ins = place_scaled(
+        &blade.pos,
+        [far[0] - 0.01 * e, far[1], far[2]],
+        1.3,
+        0.15 * e / {
+            let (l, h) = bounds(&blade.pos);
+            (0..3).map(|k| h[k] - l[k]).fold(0.0, f32::max)
+        },
+    );
     let mut s = scene(0.0, 1);
     let o = add(&mut s, &organ);
     let b = s

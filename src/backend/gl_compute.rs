@@ -1030,6 +1030,10 @@ impl Selector for GlComputeSelector {
         self.bound.remove(&id);
     }
 
+    fn gl_bound(&self, id: u32) -> bool {
+        self.bound.contains_key(&id)
+    }
+
     fn bind_gl_buffer(
         &mut self,
         id: u32,

@@ -300,6 +300,11 @@ pub trait Selector: Send {
         ))
     }
 
+    /// Mesh `id` reads its positions from a host GL buffer (so the CPU has none).
+    fn gl_bound(&self, _id: u32) -> bool {
+        false
+    }
+
     /// Deletes the backend's GL objects (the scene's context must be current). Called once,
     /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
     fn release(&mut self) {}

@@ -46,6 +46,8 @@ pub const GLCOL_ABI_VERSION: u32 = 1;
 pub struct GlcolScene {
     scene: Scene,
     contacts: Vec<GlcolContact>,
+    pairs: Vec<GlcolPair>,
+    geometry: Vec<GlcolContactGeometry>,
 }
 
 /// The scene behind a pointer, or `NULL_POINTER`.
@@ -85,28 +87,96 @@ fn aligned<T>(p: *const T, what: &str) -> FfiResult {
 }
 
 /// Reads a caller's struct: `struct_size` (its first field) first, since the rest may not
-/// be there, then, if it is the size this library knows, the whole struct.
+/// be there, then, if it is one of `sizes` (this library's `size_of::<T>()` first, then the
+/// sizes of older versions, each a prefix of `T`), that many bytes over `defaults`: the
+/// fields an older struct lacks keep their defaults and nothing past `struct_size` is read.
 ///
 /// # Safety
 /// `p` is non-null and aligned (checked by the caller), and points to readable memory of
-/// at least 4 bytes, and of `size_of::<T>()` bytes if its first 4 bytes say so.
-unsafe fn read_desc<T: Copy>(p: *const T, struct_size: *const u32, what: &str) -> Result<T, Fail> {
+/// at least 4 bytes, and of as many bytes as its first 4 bytes say when that is one of
+/// `sizes`. Every size in `sizes` ends at a field boundary of `T`, and the bytes of those
+/// fields, as C initialised them, are valid values of the fields' types.
+unsafe fn read_desc<T: Copy>(
+    p: *const T,
+    struct_size: *const u32,
+    what: &str,
+    sizes: &[(usize, &str)],
+    defaults: T,
+) -> Result<T, Fail> {
     // SAFETY: `struct_size` is the first field of `*p` (offset 0, so in bounds and aligned
     // as `p` is): an aligned read of the 4 bytes every version of the struct has.
     let got = unsafe { struct_size.read() };
-    check_struct_size(got, std::mem::size_of::<T>(), what)?;
-    // SAFETY: the struct is as large as `T` (its struct_size says so) and aligned.
-    Ok(unsafe { p.read() })
+    let n = check_struct_size(got, sizes, what)?;
+    debug_assert!(n <= std::mem::size_of::<T>());
+    let mut out = defaults;
+    // SAFETY: the caller's struct holds `n` readable bytes (its struct_size says so and `n`
+    // is one of `sizes`); `out` is a distinct local `T` of at least `n` bytes; the first
+    // `n` bytes are whole fields of `T` (the caller's contract), so `out` stays valid.
+    unsafe { std::ptr::copy_nonoverlapping(p.cast::<u8>(), std::ptr::addr_of_mut!(out).cast(), n) };
+    Ok(out)
 }
 
-/// Checks a caller struct's `struct_size` (the first field) against the one we know.
-fn check_struct_size(got: u32, want: usize, what: &str) -> FfiResult {
-    if got as usize != want {
-        return Err(invalid(format!(
-            "{what}.struct_size is {got}, expected {want} (sizeof({what}) of this glcollide; call the _init function or set it)"
-        )));
+/// Checks a caller struct's `struct_size` (the first field) against the sizes we know
+/// (`sizes[0]` this version's; each with a note saying which version it is); returns it.
+fn check_struct_size(got: u32, sizes: &[(usize, &str)], what: &str) -> Result<usize, Fail> {
+    if let Some(&(n, _)) = sizes.iter().find(|&&(n, _)| n == got as usize) {
+        return Ok(n);
     }
-    Ok(())
+    let want = sizes
+        .iter()
+        .map(|&(n, note)| format!("{n} ({note})"))
+        .collect::<Vec<_>>()
+        .join(" or ");
+    Err(invalid(format!(
+        "{what}.struct_size is {got}, expected {want}; call the _init function or set it"
+    )))
+}
+
+/// `GlcolSceneDesc` sizes accepted: this version's, and 0.1's (which ends before `threads`).
+const SCENE_DESC_SIZES: [(usize, &str); 2] = [
+    (
+        std::mem::size_of::<GlcolSceneDesc>(),
+        "sizeof(GlcolSceneDesc) of this glcollide",
+    ),
+    (
+        std::mem::offset_of!(GlcolSceneDesc, threads),
+        "glcollide 0.1's, without threads",
+    ),
+];
+
+/// `GlcolMeshDesc` sizes accepted (one version so far).
+const MESH_DESC_SIZES: [(usize, &str); 1] = [(
+    std::mem::size_of::<GlcolMeshDesc>(),
+    "sizeof(GlcolMeshDesc) of this glcollide",
+)];
+
+/// The most worker threads a scene may ask for (`GlcolSceneDesc::threads`).
+const MAX_THREADS: u32 = 1024;
+
+/// The defaults `glcol_scene_desc_init` writes.
+fn scene_desc_defaults() -> GlcolSceneDesc {
+    GlcolSceneDesc {
+        struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
+        backend: GlcolBackend::Auto as u32,
+        get_proc_address: None,
+        user_data: std::ptr::null_mut(),
+        epsilon: 0.0,
+        max_polygons_per_box: 0,
+        threads: 0,
+    }
+}
+
+/// The defaults `glcol_mesh_desc_init` writes.
+fn mesh_desc_defaults() -> GlcolMeshDesc {
+    GlcolMeshDesc {
+        struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
+        positions: std::ptr::null(),
+        vertex_count: 0,
+        position_stride: 0,
+        indices: std::ptr::null(),
+        polygon_count: 0,
+        vertices_per_polygon: 3,
+    }
 }
 
 /// `Positions` over the caller's array after every check that can be made.
@@ -168,8 +238,9 @@ pub extern "C" fn glcol_version() -> *const c_char {
     concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
 }
 
-/// Fills every field of `desc` with its default: struct_size, GLCOL_BACKEND_AUTO, no
-/// loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of thumb). NULL is ignored.
+/// Fills every field of `desc` with its default: struct_size (this header's size),
+/// GLCOL_BACKEND_AUTO, no loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of
+/// thumb), threads 0 (one per core). NULL is ignored.
 ///
 /// # Safety
 /// `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
@@ -179,16 +250,7 @@ pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
         return;
     }
     // SAFETY: non-null (checked); the caller's contract: writable and aligned.
-    unsafe {
-        desc.write(GlcolSceneDesc {
-            struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
-            backend: GlcolBackend::Auto as u32,
-            get_proc_address: None,
-            user_data: std::ptr::null_mut(),
-            epsilon: 0.0,
-            max_polygons_per_box: 0,
-        })
-    };
+    unsafe { desc.write(scene_desc_defaults()) };
 }
 
 /// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
@@ -202,17 +264,7 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
         return;
     }
     // SAFETY: non-null (checked); the caller's contract: writable and aligned.
-    unsafe {
-        desc.write(GlcolMeshDesc {
-            struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
-            positions: std::ptr::null(),
-            vertex_count: 0,
-            position_stride: 0,
-            indices: std::ptr::null(),
-            polygon_count: 0,
-            vertices_per_polygon: 3,
-        })
-    };
+    unsafe { desc.write(mesh_desc_defaults()) };
 }
 
 /// Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
@@ -241,6 +293,12 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
 ///   epsilon 0. Exception: a query with a mesh bound by glcol_mesh_bind_gl_buffer has no
 ///   positions on the CPU; there an epsilon below that minimum (0 included) is raised to it.
 ///
+/// - `desc->struct_size`: `sizeof(GlcolSceneDesc)` of this header, or of 0.1's (without
+///   `threads`, which then is 0): a program built against 0.1 keeps working. Nothing past
+///   struct_size is read. Any other size: INVALID_ARGUMENT, the message names both sizes.
+/// - `desc->threads`: workers started here, once for the scene (0 = one per core; at most
+///   1024, else INVALID_ARGUMENT).
+///
 /// # Safety
 /// `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,
 /// aligned as C aligns it (a misaligned `desc` is refused: INVALID_ARGUMENT). `out_scene` is
@@ -262,6 +320,8 @@ pub unsafe extern "C" fn glcol_scene_create(
                 desc,
                 std::ptr::addr_of!((*desc).struct_size),
                 "GlcolSceneDesc",
+                &SCENE_DESC_SIZES,
+                scene_desc_defaults(),
             )
         }?;
         let request = GlcolBackend::request(d.backend).ok_or_else(|| {
@@ -271,10 +331,16 @@ pub unsafe extern "C" fn glcol_scene_create(
                 GlcolBackend::max_value()
             ))
         })?;
+        if d.threads > MAX_THREADS {
+            return Err(invalid(format!(
+                "threads is {}; it must be 0 (one per core) to {MAX_THREADS}",
+                d.threads
+            )));
+        }
         let config = SceneConfig {
             epsilon: d.epsilon,
             max_polygons_per_box: d.max_polygons_per_box,
-            ..SceneConfig::default()
+            threads: d.threads,
         };
         config.validate()?;
         // SAFETY: the caller's contract: a non-NULL loader loads for the current context
@@ -284,6 +350,8 @@ pub unsafe extern "C" fn glcol_scene_create(
         let scene = Box::into_raw(Box::new(GlcolScene {
             scene,
             contacts: Vec::new(),
+            pairs: Vec::new(),
+            geometry: Vec::new(),
         }));
         // SAFETY: non-null (checked); the caller's contract: writable and aligned.
         unsafe { out_scene.write(scene) };
@@ -363,6 +431,8 @@ pub unsafe extern "C" fn glcol_mesh_create(
                 desc,
                 std::ptr::addr_of!((*desc).struct_size),
                 "GlcolMeshDesc",
+                &MESH_DESC_SIZES,
+                mesh_desc_defaults(),
             )
         }?;
         let k = d.vertices_per_polygon;
@@ -500,28 +570,224 @@ pub unsafe extern "C" fn glcol_query(
     guard(|| {
         // SAFETY: the caller's contract: NULL (refused) or a live scene.
         let s = unsafe { scene_mut(scene) }?;
-        non_null(out_contacts, "out_contacts")?;
-        non_null(out_count, "out_count")?;
-        let found = s.scene.query(reference)?;
-        // Room first: a failed allocation leaves the last answer's array as it was.
-        let more = found.len().saturating_sub(s.contacts.len());
-        try_reserve(&mut s.contacts, more, "the query's contacts")?;
-        s.contacts.clear();
-        s.contacts.extend(found.iter().map(|c| GlcolContact {
-            reference_polygon: c.reference_polygon,
-            other_mesh: c.other_mesh,
-            other_polygon: c.other_polygon,
-        }));
-        let first = if s.contacts.is_empty() {
-            std::ptr::null()
-        } else {
-            s.contacts.as_ptr()
-        };
-        // SAFETY: both non-null (checked); the caller's contract: writable and aligned.
-        unsafe {
-            out_contacts.write(first);
-            out_count.write(s.contacts.len());
+        let r = query_one(s, reference, out_contacts, out_count);
+        if r.is_err() {
+            s.scene.forget_query();
         }
+        r
+    })
+}
+
+/// `glcol_query`'s body once the scene is known.
+fn query_one(
+    s: &mut GlcolScene,
+    reference: GlcolMeshId,
+    out_contacts: *mut *const GlcolContact,
+    out_count: *mut usize,
+) -> FfiResult {
+    non_null(out_contacts, "out_contacts")?;
+    non_null(out_count, "out_count")?;
+    let found = s.scene.query(reference)?;
+    // Room first: a failed allocation leaves the last answer's array as it was.
+    let more = found.len().saturating_sub(s.contacts.len());
+    try_reserve(&mut s.contacts, more, "the query's contacts")?;
+    s.contacts.clear();
+    s.contacts.extend(found.iter().map(|c| GlcolContact {
+        reference_polygon: c.reference_polygon,
+        other_mesh: c.other_mesh,
+        other_polygon: c.other_polygon,
+    }));
+    // SAFETY: the glcol_query caller's contract: both non-null (checked), writable and
+    // aligned.
+    unsafe { write_array(&s.contacts, out_contacts, out_count) };
+    Ok(())
+}
+
+/// Writes `v`'s first element (NULL when empty) and length to the out-parameters.
+///
+/// # Safety
+/// Both pointers are non-null, writable and aligned.
+unsafe fn write_array<T>(v: &[T], out: *mut *const T, out_count: *mut usize) {
+    let first = if v.is_empty() {
+        std::ptr::null()
+    } else {
+        v.as_ptr()
+    };
+    // SAFETY: the caller's contract: both non-null, writable and aligned.
+    unsafe {
+        out.write(first);
+        out_count.write(v.len());
+    }
+}
+
+/// Whole-scene queries (`glcol_query_all`) also collide `mesh` with itself when `on` (off
+/// by default). Two polygons of one mesh that share a vertex index are adjacent: such a
+/// pair is reported only when the closed polygons meet somewhere other than their shared
+/// vertices and edges (a fold onto a neighbour, a vertex pushed through the next
+/// triangle), at every epsilon. The two triangles of a quad are one polygon, never a pair;
+/// vertices at one position with different indices are not shared. `glcol_query` never
+/// reports same-mesh pairs. Statuses: NULL_POINTER, UNKNOWN_MESH.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_set_self_collision(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    on: bool,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        Ok(s.scene.set_self_collision(mesh, on)?)
+    })
+}
+
+/// Pair filtering: two different meshes a and b are collided (by `glcol_query` and
+/// `glcol_query_all`) only if `(a.group & b.mask) != 0 && (b.group & a.mask) != 0`.
+/// Default group 1, mask 0xFFFFFFFF (everything collides). Self-collision is switched by
+/// `glcol_mesh_set_self_collision` alone. Statuses: NULL_POINTER, UNKNOWN_MESH.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_set_filter(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    group: u32,
+    mask: u32,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        Ok(s.scene.set_filter(mesh, group, mask)?)
+    })
+}
+
+/// Every pair of polygons that meet, in one call (the meaning of `glcol_query`: exact at
+/// epsilon 0, the viewing-volume band at epsilon > 0), from two different enabled meshes
+/// whose filters pass, or from one enabled mesh whose self-collision is on. Each pair
+/// once, (mesh_a, polygon_a) < (mesh_b, polygon_b). On success `*out_pairs` points at
+/// `*out_count` pairs sorted by (mesh_a, polygon_a, mesh_b, polygon_b) (NULL when the count
+/// is 0); the array is owned by the scene and stays valid until the next call that takes
+/// this scene non-const (`glcol_query_geometry` excepted: it leaves it alone). The answer
+/// does not depend on the backend, the thread count or the order meshes were created in;
+/// meshes whose root boxes are apart cost next to nothing. On failure nothing is written
+/// and `glcol_query_geometry` refuses until the next successful query.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `out_pairs` and `out_count` are NULL or writable and
+/// aligned.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_query_all(
+    scene: *mut GlcolScene,
+    out_pairs: *mut *const GlcolPair,
+    out_count: *mut usize,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        let r = query_all(s, out_pairs, out_count);
+        if r.is_err() {
+            s.scene.forget_query();
+        }
+        r
+    })
+}
+
+/// `glcol_query_all`'s body once the scene is known.
+fn query_all(
+    s: &mut GlcolScene,
+    out_pairs: *mut *const GlcolPair,
+    out_count: *mut usize,
+) -> FfiResult {
+    non_null(out_pairs, "out_pairs")?;
+    non_null(out_count, "out_count")?;
+    let found = s.scene.query_all()?;
+    let more = found.len().saturating_sub(s.pairs.len());
+    try_reserve(&mut s.pairs, more, "the query's pairs")?;
+    s.pairs.clear();
+    s.pairs.extend(found.iter().map(|p| GlcolPair {
+        mesh_a: p.mesh_a,
+        polygon_a: p.polygon_a,
+        mesh_b: p.mesh_b,
+        polygon_b: p.polygon_b,
+    }));
+    // SAFETY: the glcol_query_all caller's contract: both non-null (checked), writable and
+    // aligned.
+    unsafe { write_array(&s.pairs, out_pairs, out_count) };
+    Ok(())
+}
+
+/// A double to the nearest float, saturating at +-FLT_MAX (the values are finite).
+fn to_f32(x: f64) -> f32 {
+    (x as f32).clamp(-f32::MAX, f32::MAX)
+}
+
+/// Geometry of the pairs of the scene's last successful `glcol_query` or
+/// `glcol_query_all`, in the same order: entry i describes contact (or pair) i; polygon a
+/// is the reference polygon (or polygon_a), b the other. Computed at this call (a query not
+/// followed by it costs nothing more), in double precision from the float positions in a
+/// frame local to the pair, each value then rounded to the nearest float (normals stay
+/// unit within that rounding; no NaN, no infinity). On success `*out_geometry` points at
+/// `*out_count` entries (NULL when 0), owned by the scene like the pairs (valid until the
+/// next non-const call); the contacts or pairs arrays stay valid.
+/// Rules (exact decisions, as the query's):
+/// - INTERSECTING: the closed polygons meet. point_a, point_b: the two farthest-apart
+///   points of their intersection; depth, normal: the smallest translation of a that
+///   separates them (separating axes: the face normals and edge-edge crosses; for a quad,
+///   of its hull: the quad if planar and convex, else its vertices' tetrahedron, an upper
+///   bound that still separates).
+/// - COPLANAR (with INTERSECTING): all vertices in one plane; depth 0, normal = a's
+///   normal, points: the ends of the overlap's longest extent.
+/// - Neither (pairs within the epsilon band only): closest points, depth = minus their
+///   distance, normal from b towards a.
+/// - A quad is its two triangles (v0,v1,v2), (v0,v2,v3). A degenerate polygon (a segment or
+///   a point) gets the same meanings. Where a rule gives a zero normal, the fallback is a's
+///   normal, then b's, then the cross of the two segments' directions, then a unit vector
+///   perpendicular to the line holding every vertex, then +z.
+///
+/// Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
+/// last query failed, or when the meshes changed since it (create, update, enable,
+/// destroy, filter, self-collision, GL buffer binding); UNSUPPORTED when a mesh of the
+/// answer reads its positions from a GL buffer (glcol_mesh_bind_gl_buffer).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
+/// aligned.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_query_geometry(
+    scene: *mut GlcolScene,
+    out_geometry: *mut *const GlcolContactGeometry,
+    out_count: *mut usize,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        non_null(out_geometry, "out_geometry")?;
+        non_null(out_count, "out_count")?;
+        let found = s.scene.contact_geometry()?;
+        let more = found.len().saturating_sub(s.geometry.len());
+        try_reserve(&mut s.geometry, more, "the contact geometry")?;
+        s.geometry.clear();
+        s.geometry
+            .extend(found.iter().map(|g| GlcolContactGeometry {
+                point_a: g.point_a.map(to_f32),
+                point_b: g.point_b.map(to_f32),
+                normal: g.normal.map(to_f32),
+                depth: to_f32(g.depth),
+                flags: if g.intersecting {
+                    GLCOL_CONTACT_INTERSECTING
+                } else {
+                    0
+                } | if g.coplanar {
+                    GLCOL_CONTACT_COPLANAR
+                } else {
+                    0
+                },
+            }));
+        // SAFETY: both non-null (checked); the caller's contract: writable and aligned.
+        unsafe { write_array(&s.geometry, out_geometry, out_count) };
         Ok(())
     })
 }

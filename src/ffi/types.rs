@@ -74,10 +74,15 @@ pub mod raw {
 }
 
 /// How to make a scene. Fill it with `glcol_scene_desc_init`, then change what you need.
+///
+/// Growing structs: `struct_size` may be `sizeof(GlcolSceneDesc)` of this header or of an
+/// older one (0.1's, which ends before `threads`); the fields an older struct lacks take
+/// their defaults and are never read. Any other size: GLCOL_STATUS_INVALID_ARGUMENT.
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
 pub struct GlcolSceneDesc {
-    /// `sizeof(GlcolSceneDesc)`: lets the struct grow in later versions.
+    /// `sizeof(GlcolSceneDesc)` (or the size of an older version of it): lets the struct
+    /// grow.
     pub struct_size: u32,
     /// Which backend (default GLCOL_BACKEND_AUTO).
     pub backend: raw::GlcolBackend,
@@ -94,6 +99,11 @@ pub struct GlcolSceneDesc {
     /// Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
     /// above).
     pub max_polygons_per_box: u32,
+    /// Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
+    /// use, 1 = the calling thread only. The answer is identical for every count; workers
+    /// start once per scene and sleep between queries. A 0.1 struct (struct_size without
+    /// this field) gets 0.
+    pub threads: u32,
 }
 
 /// A mesh to create. Positions and indices are copied; the caller keeps its arrays.
@@ -147,4 +157,52 @@ pub struct GlcolObjMesh {
     pub polygon_count: usize,
     /// Always 3 (larger faces are split into fans).
     pub vertices_per_polygon: u32,
+}
+
+/// One colliding polygon pair of `glcol_query_all`: (mesh_a, polygon_a) < (mesh_b,
+/// polygon_b), ids comparing first (so mesh_a <= mesh_b, and polygon_a < polygon_b when
+/// the two meshes are one: a self-collision pair).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GlcolPair {
+    /// The lower mesh id.
+    pub mesh_a: GlcolMeshId,
+    /// Polygon index in `mesh_a`.
+    pub polygon_a: u32,
+    /// The higher mesh id, or `mesh_a` for a self-collision pair.
+    pub mesh_b: GlcolMeshId,
+    /// Polygon index in `mesh_b`.
+    pub polygon_b: u32,
+}
+
+/// `GlcolContactGeometry::flags`: the closed polygons meet (else they are only within the
+/// query's epsilon band).
+pub const GLCOL_CONTACT_INTERSECTING: u32 = 1 << 0;
+
+/// `GlcolContactGeometry::flags`: the polygons meet and lie in one plane (then depth is 0
+/// and normal is polygon a's normal).
+pub const GLCOL_CONTACT_COPLANAR: u32 = 1 << 1;
+
+/// Geometry of one contact or pair (`glcol_query_geometry`). Polygon a is the reference
+/// polygon of a `glcol_query` contact, or `polygon_a` of a `glcol_query_all` pair. Computed
+/// in double precision, each value then rounded to the nearest float (saturating at
+/// +-FLT_MAX, never infinite or NaN).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlcolContactGeometry {
+    /// Intersecting: one end of the intersection of the two polygons (coplanar: of the
+    /// overlap's longest extent). Band only: the point of polygon a closest to polygon b.
+    pub point_a: [f32; 3],
+    /// Intersecting: the other end (equal to point_a when they meet in one point). Band
+    /// only: the point of polygon b closest to polygon a.
+    pub point_b: [f32; 3],
+    /// Unit (within float rounding). Intersecting: moving polygon a by depth * normal
+    /// separates the two polygons (the smallest such translation). Band only: from b
+    /// towards a.
+    pub normal: [f32; 3],
+    /// Intersecting: >= 0, the length of that smallest separating translation (the
+    /// penetration depth). Band only: minus the distance between the polygons.
+    pub depth: f32,
+    /// GLCOL_CONTACT_* bits.
+    pub flags: u32,
 }

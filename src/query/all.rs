@@ -50,7 +50,12 @@ pub struct BroadPhase {
 
 /// The pairs `(i, j)`, `i < j` positions in `meshes`, whose root boxes meet once grown by
 /// `h` and whose filters pass, sorted.
-pub fn mesh_pairs(meshes: &[SceneMesh<'_>], h: f64, bp: &mut BroadPhase, out: &mut Vec<(u32, u32)>) {
+pub fn mesh_pairs(
+    meshes: &[SceneMesh<'_>],
+    h: f64,
+    bp: &mut BroadPhase,
+    out: &mut Vec<(u32, u32)>,
+) {
     out.clear();
     bp.roots.clear();
     bp.roots.extend(meshes.iter().map(|m| m.mesh.root()));
@@ -58,9 +63,12 @@ pub fn mesh_pairs(meshes: &[SceneMesh<'_>], h: f64, bp: &mut BroadPhase, out: &m
     bp.grown.extend(bp.roots.iter().map(|r| r.grown(h)));
     bp.found.clear();
     bp.sweep.pairs(&bp.grown, &bp.roots, &mut bp.found);
-    out.extend(bp.found.iter().copied().filter(|&(i, j)| {
-        i < j && filters_pass(&meshes[i as usize], &meshes[j as usize])
-    }));
+    out.extend(
+        bp.found
+            .iter()
+            .copied()
+            .filter(|&(i, j)| i < j && filters_pass(&meshes[i as usize], &meshes[j as usize])),
+    );
     out.sort_unstable();
 }
 
@@ -124,7 +132,8 @@ pub fn self_pairs(
     for &(i, j) in leaf_pairs {
         let (ri, rj) = (m.leaves.polys(i as usize), m.leaves.polys(j as usize));
         s.vols.clear();
-        s.vols.extend(s.boxes[ri.clone()].iter().map(|b| b.grown(h)));
+        s.vols
+            .extend(s.boxes[ri.clone()].iter().map(|b| b.grown(h)));
         s.cands.clear();
         s.cands.extend_from_slice(&s.boxes[rj.clone()]);
         s.box_pairs.clear();
