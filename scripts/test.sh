@@ -6,6 +6,10 @@ cd "$(dirname "$0")/.."
 extra=()
 for f in scripts/test.d/*.deps; do [ -e "$f" ] && extra+=($(cat "$f")); done
 bash scripts/deps.sh "${extra[@]}"
+echo "== lints: rustfmt, clippy (warnings are errors; missing_docs on the public API), rustdoc"
+cargo fmt --check
+cargo clippy --release --locked --all-targets -q -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --release --locked --no-deps -q
 echo "== cargo test"
 log=$(mktemp)
 # Library, integration tests and benchmarks built (benchmarks are run by their own smoke
