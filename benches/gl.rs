@@ -2,8 +2,7 @@
 //! llvmpipe when there is no GPU): median update + query per frame, GL read-backs per
 //! query, and whether the contacts equal the CPU backend's, frame by frame.
 //!   cargo bench --bench gl [-- FRAMES]
-//! GL_COMPUTE runs twice: the whole query on the GPU (one read-back, the default) and the
-//! step-by-step path (a dispatch and a read-back per step). On llvmpipe every GL call is
+//! GL_COMPUTE runs the whole query on the GPU (one read-back). On llvmpipe every GL call is
 //! CPU work, so this measures overheads, not what a GPU would do; AUTO picks the CPU there.
 //! Exits 1 if a GL backend's contacts differ from the CPU backend's in any frame.
 
@@ -169,12 +168,9 @@ fn main() {
         let per = cpu.iter().map(Vec::len).sum::<usize>() / cpu.len();
         println!("| {} | CPU | {cpu_ms:.3} | 0 | {per} | - |", case.name);
         let whole = GlComputeSelector::new(load_gl()).unwrap();
-        let mut steps = GlComputeSelector::new(load_gl()).unwrap();
-        steps.set_whole_query(false);
         let select = GlSelectSelector::new(load_gl()).unwrap();
-        let rows: [(&str, Box<dyn Selector>); 3] = [
+        let rows: [(&str, Box<dyn Selector>); 2] = [
             ("GL_COMPUTE, whole query", Box::new(whole)),
-            ("GL_COMPUTE, step by step", Box::new(steps)),
             ("GL_SELECT", Box::new(select)),
         ];
         for (name, sel) in rows {

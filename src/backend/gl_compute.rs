@@ -20,9 +20,6 @@
 //! - Limits: room past `GL_MAX_SHADER_STORAGE_BLOCK_SIZE` is refused (OUT_OF_MEMORY)
 //!   before anything is allocated; a step of 2^31 tests or more (UNSUPPORTED) before it is
 //!   dispatched.
-//! - The step-by-step path (one dispatch per [`Batch`] through [`Selector::select`], with
-//!   a read-back per step) is kept behind [`GlComputeSelector::set_whole_query`]: the tests
-//!   check both against each other.
 //! - Box tests are padded (float rounding can only add pairs); the polygon viewing volume
 //!   of step 5 is clipped in double precision in a frame local to the reference polygon.
 //!   When every mesh of the query has its positions on the CPU too, each step-5 hit is
@@ -34,22 +31,16 @@ use std::collections::BTreeMap;
 
 use glow::HasContext;
 
-use super::{
-    Backend, Batch, Contact, Engine, Hit, QueryMeshes, QueryStats, Selector, Step, StepQuery,
-    WholeQuery, ROOT,
-};
+use super::{Backend, Contact, Engine, QueryMeshes, QueryStats, Selector, WholeQuery};
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::polygon::polygon_meets;
-use crate::geom::Aabb;
 use crate::gpu::state::{StateGuard, Uses};
 use crate::gpu::{buffer, unavailable, Gl};
 use crate::mesh::Mesh;
 
 const COMMON: &str = include_str!("../gpu/shaders/common.glsl");
 const GATHER: &str = include_str!("../gpu/shaders/gather.glsl");
-const REFIT: &str = include_str!("../gpu/shaders/refit.glsl");
 const MEETS: &str = include_str!("../gpu/shaders/meets.glsl");
-const SELECT: &str = include_str!("../gpu/shaders/select.glsl");
 const QUERY: &str = include_str!("../gpu/shaders/query.glsl");
 
 /// Indexed buffer bindings the shaders use (0..BINDINGS).
@@ -83,8 +74,6 @@ struct Bound {
 
 struct Objects {
     gather: glow::NativeProgram,
-    refit: glow::NativeProgram,
-    select: glow::NativeProgram,
     /// The whole-query kernels of query.glsl: refit + root, step 1, dispatch sizes, step 2,
     /// steps 3 and 4, step 5.
     query: [glow::NativeProgram; 6],
@@ -116,8 +105,6 @@ pub struct GlComputeSelector {
     obj: Option<Objects>,
     slots: BTreeMap<u32, Slot>,
     bound: BTreeMap<u32, Bound>,
-    /// Run the whole query on the GPU (default) rather than step by step.
-    whole_query: bool,
     caps: Caps,
     /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes.
     max_block: u64,
@@ -125,12 +112,8 @@ pub struct GlComputeSelector {
     readbacks: u32,
     /// Capacities the GPU buffers were last sized for (None: never).
     sized: Option<(Caps, u32)>,
-    /// Scratch for a batch.
-    vols: Vec<u32>,
-    cands: Vec<u32>,
-    groups: Vec<u32>,
+    /// Scratch for the leaf boxes of a mesh.
     box_words: Vec<f32>,
-    raw: Vec<u8>,
 }
 
 fn bytes<T: Copy>(v: &[T]) -> &[u8] {
@@ -209,32 +192,23 @@ impl GlComputeSelector {
             obj: None,
             slots: BTreeMap::new(),
             bound: BTreeMap::new(),
-            whole_query: true,
             caps: Caps::default(),
             max_block,
             readbacks: 0,
             sized: None,
-            vols: Vec::new(),
-            cands: Vec::new(),
-            groups: Vec::new(),
             box_words: Vec::new(),
-            raw: Vec::new(),
         };
         let guard = StateGuard::enter(&s.gl, uses())?;
         let g = &s.gl.gl;
         let made = unsafe {
             (|| -> Result<Objects> {
                 let gather = compile(g, "gather", GATHER, false)?;
-                let refit =
-                    compile(g, "refit", REFIT, false).inspect_err(|_| g.delete_program(gather))?;
-                let mut programs = vec![gather, refit];
+                let mut programs = vec![gather];
                 let fail = |programs: &[glow::NativeProgram]| {
                     for &p in programs {
                         g.delete_program(p);
                     }
                 };
-                let select = compile(g, "select", SELECT, true).inspect_err(|_| fail(&programs))?;
-                programs.push(select);
                 let mut query = Vec::new();
                 for k in 1..=6 {
                     let body = format!("#define KERNEL {k}\n#line 1 2\n{QUERY}");
@@ -251,8 +225,6 @@ impl GlComputeSelector {
                 }
                 Ok(Objects {
                     gather,
-                    refit,
-                    select,
                     query: query.try_into().unwrap(),
                     buffers: buffers.try_into().unwrap(),
                 })
@@ -278,31 +250,27 @@ fn uses() -> Uses {
 
 const POS: usize = 0;
 const POLYS: usize = 1;
-const VOLS: usize = 2;
-const CANDS: usize = 3;
-const GROUPS: usize = 4;
-const HITS: usize = 5;
-const LEAF_RANGE: usize = 6;
-const LEAF_VERTS: usize = 7;
-const BOXES: usize = 8;
-/// Whole query: first and end global polygon of each global leaf.
-const LEAF_POLYS: usize = 9;
-/// Whole query: (first global leaf, leaves, first thread) of each other mesh.
-const OTHERS: usize = 10;
-/// Whole query: step-1 hits (global leaf ids).
-const L1: usize = 11;
-/// Whole query: leaf pairs (8 words each).
-const PAIRS: usize = 12;
-/// Whole query: each pair's step-3 and step-4 polygon lists.
-const LISTS: usize = 13;
-/// Whole query: a 64-word header of counters, then the step-5 hits.
-const RESULT: usize = 14;
-/// Whole query: root box keys per mesh of the arena.
-const ROOTS: usize = 15;
-const NBUF: usize = 16;
-/// Shader binding of each buffer (the host source buffer is binding 6; the whole query's
-/// buffers reuse the step path's binding points 2 to 5 and gather's 8).
-const BINDING: [u32; NBUF] = [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 2, 3, 4, 5, 8];
+const LEAF_RANGE: usize = 2;
+const LEAF_VERTS: usize = 3;
+const BOXES: usize = 4;
+/// First and end global polygon of each global leaf.
+const LEAF_POLYS: usize = 5;
+/// (first global leaf, leaves, first thread) of each other mesh.
+const OTHERS: usize = 6;
+/// Step-1 hits (global leaf ids).
+const L1: usize = 7;
+/// Leaf pairs (8 words each).
+const PAIRS: usize = 8;
+/// Each pair's step-3 and step-4 polygon lists.
+const LISTS: usize = 9;
+/// A 64-word header of counters, then the step-5 hits.
+const RESULT: usize = 10;
+/// Root box keys per mesh of the arena.
+const ROOTS: usize = 11;
+const NBUF: usize = 12;
+/// Shader binding of each buffer (the host source buffer is binding 6; the roots share
+/// gather's binding 8).
+const BINDING: [u32; NBUF] = [0, 1, 7, 8, 9, 10, 11, 2, 3, 4, 5, 8];
 /// Words of the whole query's result header.
 const HEADER: usize = 64;
 
@@ -330,10 +298,6 @@ unsafe fn dispatch(g: &glow::Context, p: glow::NativeProgram, n: u32) {
 }
 
 impl GlComputeSelector {
-    fn objects(&self) -> &Objects {
-        self.obj.as_ref().expect("GL objects exist until release")
-    }
-
     /// Lays every mesh out in the arenas again (meshes were added or removed).
     unsafe fn rebuild(&mut self, meshes: &BTreeMap<u32, Mesh>) {
         let g = &self.gl.gl;
@@ -422,10 +386,7 @@ impl GlComputeSelector {
             }
             let g = &self.gl.gl;
             let o = self.obj.as_ref().unwrap();
-            for b in 0..9 {
-                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[b], Some(o.buffers[b]));
-            }
-            // CPU-side positions that changed, and (whole query) their CPU-refitted boxes.
+            // CPU-side positions that changed, and their CPU-refitted boxes.
             for (id, m) in meshes.iter() {
                 let s = self.slots.get_mut(id).unwrap();
                 if !self.bound.contains_key(id) && s.uploaded != Some(m.generation) {
@@ -435,18 +396,16 @@ impl GlComputeSelector {
                         s.vertex_base as i32 * 12,
                         bytes(m.slot_positions()),
                     );
-                    if self.whole_query {
-                        self.box_words.clear();
-                        for b in &m.leaves.boxes {
-                            self.box_words.extend(b.min.iter().chain(&b.max));
-                        }
-                        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
-                        g.buffer_sub_data_u8_slice(
-                            glow::SHADER_STORAGE_BUFFER,
-                            s.leaf_base as i32 * 24,
-                            bytes(&self.box_words),
-                        );
+                    self.box_words.clear();
+                    for b in &m.leaves.boxes {
+                        self.box_words.extend(b.min.iter().chain(&b.max));
                     }
+                    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
+                    g.buffer_sub_data_u8_slice(
+                        glow::SHADER_STORAGE_BUFFER,
+                        s.leaf_base as i32 * 24,
+                        bytes(&self.box_words),
+                    );
                     s.uploaded = Some(m.generation);
                 }
             }
@@ -454,12 +413,15 @@ impl GlComputeSelector {
                 return self.gl.check("uploading positions");
             }
             // Host buffers: gather into the arena on the GPU (after the host's own shader
-            // writes to them), refit, read the boxes back (the whole query refits on the GPU
-            // and reads nothing back; disabled meshes are not in it).
+            // writes to them); the query refits their leaves on the GPU and reads nothing back
+            // (disabled meshes are not in it).
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             g.use_program(Some(o.gather));
+            for k in [POS, LEAF_VERTS] {
+                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(o.buffers[k]));
+            }
             for (id, b) in &self.bound {
-                if self.whole_query && !meshes[id].enabled {
+                if !meshes[id].enabled {
                     continue;
                 }
                 let s = &self.slots[id];
@@ -470,57 +432,7 @@ impl GlComputeSelector {
                 dispatch(g, o.gather, s.vertices);
             }
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
-            if self.whole_query {
-                return self.gl.check("gathering positions from host buffers");
-            }
-            g.use_program(Some(o.refit));
-            let leaves: u32 = self.slots.values().map(|s| s.leaves).sum();
-            dispatch(g, o.refit, leaves);
-            g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
-            self.gl.check("refitting leaf boxes on the GPU")?;
-            let mut raw = std::mem::take(&mut self.raw);
-            raw.resize(leaves as usize * 24, 0);
-            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
-            g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 0, &mut raw);
-            self.readbacks += 1;
-            for id in self.bound.keys() {
-                let s = &self.slots[id];
-                let m = meshes.get_mut(id).unwrap();
-                let mut root = Aabb::EMPTY;
-                for l in 0..s.leaves as usize {
-                    let at = (s.leaf_base as usize + l) * 24;
-                    let f = |k: usize| {
-                        let i = at + 4 * k;
-                        f32::from_ne_bytes([raw[i], raw[i + 1], raw[i + 2], raw[i + 3]])
-                    };
-                    let b = Aabb {
-                        min: [f(0), f(1), f(2)],
-                        max: [f(3), f(4), f(5)],
-                    };
-                    root.merge(&b);
-                    m.leaves.boxes[l] = b;
-                }
-                if (0..3).any(|k| !root.min[k].is_finite() || !root.max[k].is_finite()) {
-                    self.raw = raw;
-                    return Err(Error::new(
-                        ErrorKind::NonFinite,
-                        format!(
-                            "mesh {id}: its bound GL buffer holds a NaN or infinite coordinate"
-                        ),
-                    ));
-                }
-                m.leaves.root = root;
-            }
-            self.raw = raw;
-            self.gl.check("reading leaf boxes back")
-        }
-    }
-
-    /// Whole query (default) or one dispatch and read-back per step.
-    pub fn set_whole_query(&mut self, on: bool) {
-        self.whole_query = on;
-        for s in self.slots.values_mut() {
-            s.uploaded = None; // the whole query also needs the boxes uploaded
+            self.gl.check("gathering positions from host buffers")
         }
     }
 
@@ -815,125 +727,6 @@ impl GlComputeSelector {
         stats.nanos[0] = t0.elapsed().as_nanos() as u64;
         Ok(())
     }
-
-    fn select_inner(
-        &mut self,
-        q: &QueryMeshes<'_>,
-        batch: &Batch,
-        hits: &mut Vec<Hit>,
-    ) -> Result<()> {
-        let h = q.gl_half_depth();
-        let slot = |mi: u32| &self.slots[&q.meshes[mi as usize].0];
-        let box_bits = |b: Aabb| {
-            [b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]].map(f32::to_bits)
-        };
-        let (step, total) = match batch.step {
-            Step::BoxesInBoxes => (0u32, batch.tests()),
-            Step::PolygonsInBoxes => (1, batch.tests()),
-            Step::PolygonsInPolygons => (2, batch.tests()),
-        };
-        if total > u32::MAX as usize / 2 {
-            return Err(Error::new(
-                ErrorKind::Unsupported,
-                format!("a step asks {total} tests, more than one dispatch can take"),
-            ));
-        }
-        self.vols.clear();
-        self.cands.clear();
-        for v in &batch.volumes {
-            if step == 2 {
-                self.vols.push(slot(v.mesh).poly_base + v.index);
-            } else {
-                debug_assert!(v.index == ROOT || v.index < slot(v.mesh).leaves);
-                self.vols.extend(box_bits(q.boxed(*v)));
-            }
-        }
-        for c in &batch.candidates {
-            if step == 0 {
-                self.cands.extend(box_bits(q.boxed(*c)));
-            } else {
-                self.cands.push(slot(c.mesh).poly_base + c.index);
-            }
-        }
-        self.groups.clear();
-        let mut first = 0u32;
-        for g in &batch.groups {
-            let (vn, cn) = (g.volumes.len() as u32, g.candidates.len() as u32);
-            if vn * cn == 0 {
-                continue;
-            }
-            self.groups
-                .extend([g.volumes.start, vn, g.candidates.start, cn, first]);
-            first += vn * cn;
-        }
-        if self.groups.is_empty() {
-            return Ok(());
-        }
-        let cap = total as u32;
-        let o = self.objects();
-        let g = &self.gl.gl;
-        let n = unsafe {
-            g.use_program(Some(o.select));
-            upload(g, o.buffers[VOLS], bytes(&self.vols));
-            upload(g, o.buffers[CANDS], bytes(&self.cands));
-            upload(g, o.buffers[GROUPS], bytes(&self.groups));
-            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[HITS]));
-            g.buffer_data_size(
-                glow::SHADER_STORAGE_BUFFER,
-                8 + 8 * cap as i32,
-                glow::DYNAMIC_DRAW,
-            );
-            g.buffer_sub_data_u8_slice(glow::SHADER_STORAGE_BUFFER, 0, bytes(&[0u32, cap]));
-            // Every binding, each call: the guard gave the host its bindings back.
-            for b in [POS, POLYS, VOLS, CANDS, GROUPS, HITS] {
-                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[b], Some(o.buffers[b]));
-            }
-            set_u32(g, o.select, "u_step", step);
-            set_u32(g, o.select, "u_groups", self.groups.len() as u32 / 5);
-            let l = g.get_uniform_location(o.select, "u_h");
-            g.uniform_1_f32(l.as_ref(), (h * (1.0 + 1e-6)) as f32);
-            let l = g.get_uniform_location(o.select, "u_pad_rel");
-            g.uniform_1_f32(l.as_ref(), 1.0 / (1u64 << 40) as f32);
-            dispatch(g, o.select, first);
-            g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
-            self.gl.check("the selection dispatch")?;
-            // One read-back: the counter, then the hits it counts.
-            let mut head = [0u8; 4];
-            g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 0, &mut head);
-            self.readbacks += 1;
-            let n = u32::from_ne_bytes(head).min(cap) as usize;
-            self.raw.resize(n * 8, 0);
-            if n > 0 {
-                g.get_buffer_sub_data(glow::SHADER_STORAGE_BUFFER, 8, &mut self.raw);
-                self.readbacks += 1;
-            }
-            n
-        };
-        let start = hits.len();
-        hits.extend(self.raw[..n * 8].chunks_exact(8).map(|c| Hit {
-            volume: u32::from_ne_bytes([c[0], c[1], c[2], c[3]]),
-            candidate: u32::from_ne_bytes([c[4], c[5], c[6], c[7]]),
-        }));
-        // Step 5: confirm with the CPU's test when every position is on the CPU.
-        let cpu_positions = q.meshes.iter().all(|(id, _)| !self.bound.contains_key(id));
-        if step == 2 && cpu_positions {
-            let mut w = start;
-            for r in start..hits.len() {
-                let hit = hits[r];
-                let (v, c) = (
-                    batch.volumes[hit.volume as usize],
-                    batch.candidates[hit.candidate as usize],
-                );
-                let (vm, cm) = (q.mesh(v), q.mesh(c));
-                if confirmed(vm, v.index as usize, cm, c.index as usize, q.half_depth) {
-                    hits[w] = hit;
-                    w += 1;
-                }
-            }
-            hits.truncate(w);
-        }
-        Ok(())
-    }
 }
 
 /// A float's key whose unsigned order is the float order (as `key` in query.glsl).
@@ -980,18 +773,6 @@ impl WholeQuery for GlComputeSelector {
     }
 }
 
-impl StepQuery for GlComputeSelector {
-    fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
-        let gl: *const Gl = &self.gl;
-        // SAFETY: as in prepare.
-        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
-        let r = self.select_inner(q, batch, hits);
-        let done = guard.finish();
-        r?;
-        done
-    }
-}
-
 impl Selector for GlComputeSelector {
     fn backend(&self) -> Backend {
         Backend::GlCompute
@@ -1008,11 +789,7 @@ impl Selector for GlComputeSelector {
     }
 
     fn engine(&mut self) -> Engine<'_> {
-        if self.whole_query {
-            Engine::Whole(self)
-        } else {
-            Engine::Steps(self)
-        }
+        Engine::Whole(self)
     }
 
     fn take_readbacks(&mut self) -> u32 {
@@ -1085,8 +862,6 @@ impl Selector for GlComputeSelector {
             unsafe {
                 let g = &self.gl.gl;
                 g.delete_program(o.gather);
-                g.delete_program(o.refit);
-                g.delete_program(o.select);
                 for p in o.query {
                     g.delete_program(p);
                 }

@@ -2,8 +2,8 @@
 // the polygon volume test runs in double precision in a frame whose origin is the
 // reference polygon's first vertex, with its planes moved out by u_pad_rel times the
 // local size.
-// half_depth(): the viewing volume's half depth (a uniform for the step kernel, the
-// result header for the whole-query kernels, where the GPU may raise it).
+// half_depth(): the viewing volume's half depth (query.glsl reads it from the result
+// header, where the GPU may raise it).
 float half_depth();
 uniform float u_pad_rel;
 
