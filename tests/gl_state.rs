@@ -3,8 +3,10 @@
 //! change. A GL error the host left pending must not fail our call and must still be
 //! pending after it. Runs in a compatibility context (GL_SELECT and GL_COMPUTE) and in a
 //! core 4.5 context (GL_COMPUTE). The host also has a program pipeline, a transform feedback
-//! object with its own buffers, and indexed bindings up to 15; a host whose transform
-//! feedback is running is refused with a message, and answered once it pauses it.
+//! object with its own buffers, and indexed bindings up to 15, one of them a range whose
+//! offset and size are past 2 GiB where the GL reports such a range (Mesa 22 does not: see
+//! `bind_far_range`); a host whose transform feedback is running is refused with a message,
+//! and answered once it pauses it.
 mod common;
 mod gl_support;
 
@@ -253,6 +255,7 @@ fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
         g.bind_buffer_range(glow::ATOMIC_COUNTER_BUFFER, 1, Some(bufs[6]), 0, 64);
         g.bind_buffer_range(glow::SHADER_STORAGE_BUFFER, 11, Some(bufs[6]), 128, 256);
         g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(bufs[7]));
+        bind_far_range(g, bufs[4]);
         // A transform feedback object with its own buffers, and a program pipeline.
         let tf = g.create_transform_feedback().unwrap();
         g.bind_transform_feedback(glow::TRANSFORM_FEEDBACK, Some(tf));
@@ -318,6 +321,49 @@ fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
         }
         assert_eq!(g.get_error(), glow::NO_ERROR);
         bufs.iter().map(|b| b.0.get()).collect()
+    }
+}
+
+/// Binds `b` to shader storage binding 3 at 3 GiB, 2 GiB + 4 KiB long: glBindBufferRange
+/// checks the alignment, not the buffer's size, and a restore through 32-bit offsets and
+/// sizes would lose the range. Where the GL itself reports the range wrong (Mesa 22.3's
+/// glGetInteger64i_v answers GL_SHADER_STORAGE_BUFFER_START and _SIZE from a 32-bit int, so
+/// no host could save it), binds 256 bytes at 256 instead and says so: the range past
+/// 2 GiB is then not checked.
+fn bind_far_range(g: &glow::Context, b: glow::NativeBuffer) {
+    let (far, size) = (3i64 << 30, (1i64 << 31) + 4096);
+    bind_range_64(glow::SHADER_STORAGE_BUFFER, 3, b, far, size);
+    let read = unsafe {
+        (
+            g.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, 3),
+            g.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, 3),
+        )
+    };
+    assert_eq!(unsafe { g.get_error() }, glow::NO_ERROR);
+    if read != (far, size) {
+        eprintln!(
+            "this GL reports the range {far}+{size} as {read:?} (32 bits): a range past 2 GiB \
+             is not checked here"
+        );
+        bind_range_64(glow::SHADER_STORAGE_BUFFER, 3, b, 256, 256);
+    }
+}
+
+/// glBindBufferRange with 64-bit offset and size (glow's takes `i32`), through the host's
+/// loader.
+fn bind_range_64(target: u32, index: u32, buffer: glow::NativeBuffer, offset: i64, size: i64) {
+    type BindBufferRange = unsafe extern "system" fn(u32, u32, u32, isize, isize);
+    unsafe {
+        let f = get_proc_address(std::ptr::null_mut(), c"glBindBufferRange".as_ptr());
+        assert!(!f.is_null());
+        let f = std::mem::transmute::<*mut c_void, BindBufferRange>(f);
+        f(
+            target,
+            index,
+            buffer.0.get(),
+            offset as isize,
+            size as isize,
+        );
     }
 }
 

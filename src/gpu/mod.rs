@@ -5,8 +5,31 @@
 //!
 //! - [`state`]: the one place where GL state is saved and restored ([`state::StateGuard`]).
 //! - [`Gl`]: the loaded entry points and what the context is (version, profile, renderer).
+//! - [`shaders`]: the GL_COMPUTE shaders; their `#version` decides which contexts can run
+//!   them ([`compute_gl_version`]).
+//! - Sizes: every byte size or offset handed to the GL is computed with checked arithmetic
+//!   ([`gl_bytes`]), so a count too large is an error, never a wrapped size.
+//!
+//! Safety. GL entry points are `unsafe`: they must be called on the thread where the
+//! context they were loaded for is current, with names and sizes the GL accepts. The C API
+//! makes the first a caller's contract (GL-backed calls run where the scene's context is
+//! current; see `Selector`); each `unsafe` block below says why its arguments are valid.
+
+#![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod state;
+
+/// The GL_COMPUTE shaders (GLSL sources, compiled at scene creation).
+pub mod shaders {
+    /// Shared by every kernel: `#version`, the work-group size, positions and polygons.
+    pub const COMMON: &str = include_str!("shaders/common.glsl");
+    /// Copies a mesh's positions from the host's buffer object into the arena.
+    pub const GATHER: &str = include_str!("shaders/gather.glsl");
+    /// The box and polygon tests the query kernels share.
+    pub const MEETS: &str = include_str!("shaders/meets.glsl");
+    /// The whole query's kernels, one per value of `KERNEL`.
+    pub const QUERY: &str = include_str!("shaders/query.glsl");
+}
 
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::num::NonZeroU32;
@@ -44,13 +67,17 @@ pub struct GlInfo {
     /// Fixed-function entry points (selection mode) are usable: a compatibility profile or
     /// a context of version <= 3.0, and every entry point we need was loaded.
     pub fixed_function: bool,
-    /// Compute shaders with SSBOs (GL 4.3+).
+    /// The GL_COMPUTE shaders can run here: the context is at least
+    /// [`compute_gl_version`] (GL 4.3: compute shaders, shader storage blocks, `double`).
     pub compute: bool,
     /// Program pipeline objects (GL 4.1 or ARB_separate_shader_objects) with
     /// glBindProgramPipeline loaded among the fixed-function entry points.
     pub program_pipelines: bool,
+    /// GL_RENDERER.
     pub renderer: String,
+    /// GL_VENDOR.
     pub vendor: String,
+    /// GL_VERSION as the GL spells it.
     pub version_string: String,
 }
 
@@ -73,10 +100,27 @@ impl GlInfo {
 
 /// Loaded entry points for one context (or contexts sharing its objects).
 pub struct Gl {
+    /// Modern GL through glow.
     pub gl: glow::Context,
     /// Fixed-function entry points; `Some` when `info.fixed_function`.
     pub ff: Option<compat::Gl>,
+    /// Entry points glow only offers with 32-bit offsets and sizes.
+    wide: Wide,
+    /// What the context is.
     pub info: GlInfo,
+}
+
+/// glBindBufferRange (GL 3.0).
+type BindBufferRange = unsafe extern "system" fn(u32, u32, u32, isize, isize);
+/// glGetBufferParameteri64v (GL 3.2).
+type GetBufferParameteri64v = unsafe extern "system" fn(u32, u32, *mut i64);
+
+/// Entry points loaded by hand because glow's take or give `i32` where the GL has 64-bit
+/// `GLintptr` / `GLsizeiptr` / `GLint64` (a buffer range past 2 GiB would wrap).
+#[derive(Clone, Copy, Default)]
+struct Wide {
+    bind_buffer_range: Option<BindBufferRange>,
+    get_buffer_parameter_i64v: Option<GetBufferParameteri64v>,
 }
 
 // SAFETY: the function pointers are plain code addresses. The C API's contract is that a
@@ -90,7 +134,9 @@ impl Gl {
     /// # Safety
     /// `gpa` must be a loader for the current thread's GL (called with `user_data`).
     pub unsafe fn load(gpa: GetProcAddress, user_data: *mut c_void) -> Result<Gl> {
-        let lookup = |name: &CStr| gpa(user_data, name.as_ptr()) as *const c_void;
+        // SAFETY: the caller's contract: `gpa` is a loader called with `user_data`, and
+        // `name` is a NUL-terminated string that outlives the call.
+        let lookup = |name: &CStr| unsafe { gpa(user_data, name.as_ptr()) } as *const c_void;
         let get_string = lookup(c"glGetString");
         if get_string.is_null() {
             return Err(unavailable(
@@ -98,26 +144,36 @@ impl Gl {
             ));
         }
         type GetString = unsafe extern "system" fn(u32) -> *const u8;
-        let get_string: GetString = std::mem::transmute(get_string);
-        let v = get_string(glow::VERSION);
+        // SAFETY: a non-NULL address the loader gave for glGetString, whose signature this
+        // is; calling it with GL_VERSION on the thread whose context the loader serves is
+        // valid (NULL when no context is current, checked).
+        let v = unsafe {
+            let get_string: GetString = std::mem::transmute(get_string);
+            get_string(glow::VERSION)
+        };
         if v.is_null() {
             return Err(unavailable(
                 "glGetString(GL_VERSION) returned NULL: no GL context is current on this thread",
             ));
         }
-        let version_string = CStr::from_ptr(v.cast()).to_string_lossy().into_owned();
+        // SAFETY: glGetString returns a NUL-terminated static string (non-NULL, checked).
+        let version_string = unsafe { CStr::from_ptr(v.cast()) }
+            .to_string_lossy()
+            .into_owned();
         if version_string.starts_with("OpenGL ES") {
             return Err(unavailable(format!(
                 "the current context is OpenGL ES ({version_string}); glcollide needs desktop GL"
             )));
         }
-        let gl = glow::Context::from_loader_function_cstr(lookup);
+        // SAFETY: `lookup` loads for the context current on this thread (caller's contract).
+        let gl = unsafe { glow::Context::from_loader_function_cstr(lookup) };
         let ver = gl.version();
         let version = (ver.major, ver.minor);
         let at_least = |a: u32, b: u32| version >= (a, b);
         let exts = gl.supported_extensions();
         let (core_profile, compat_profile) = if at_least(3, 2) {
-            let mask = gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) as u32;
+            // SAFETY: GL_CONTEXT_PROFILE_MASK is a GL 3.2 query; the context is current.
+            let mask = unsafe { gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) } as u32;
             (
                 mask & glow::CONTEXT_CORE_PROFILE_BIT != 0,
                 mask & glow::CONTEXT_COMPATIBILITY_PROFILE_BIT != 0,
@@ -131,7 +187,7 @@ impl Gl {
         let ff = if compat_profile && !core_profile {
             let f = compat::Gl::load_with(|name| {
                 let c = CString::new(name).unwrap_or_default();
-                gpa(user_data, c.as_ptr()) as *const c_void
+                lookup(&c)
             });
             let needed = [
                 f.SelectBuffer.is_loaded(),
@@ -153,22 +209,42 @@ impl Gl {
         } else {
             None
         };
-        let compute = at_least(4, 3) || exts.contains("GL_ARB_compute_shader");
+        let load_wide = |name: &CStr, since: (u32, u32)| {
+            let p = lookup(name);
+            (version >= since && !p.is_null()).then_some(p)
+        };
+        let wide = Wide {
+            // SAFETY: non-NULL addresses the loader gave for these names on a context of
+            // the version that has them; the types are their C signatures.
+            bind_buffer_range: load_wide(c"glBindBufferRange", (3, 0))
+                .map(|p| unsafe { std::mem::transmute::<*const c_void, BindBufferRange>(p) }),
+            // SAFETY: as above.
+            get_buffer_parameter_i64v: load_wide(c"glGetBufferParameteri64v", (3, 2)).map(
+                |p| unsafe { std::mem::transmute::<*const c_void, GetBufferParameteri64v>(p) },
+            ),
+        };
         let program_pipelines = ff
             .as_ref()
             .is_some_and(|f| f.BindProgramPipeline.is_loaded())
             && (at_least(4, 1) || exts.contains("GL_ARB_separate_shader_objects"));
+        // SAFETY: GL 1.0 string queries on the current context.
+        let (renderer, vendor) = unsafe {
+            (
+                gl.get_parameter_string(glow::RENDERER),
+                gl.get_parameter_string(glow::VENDOR),
+            )
+        };
         let info = GlInfo {
             version,
             core_profile,
             fixed_function: ff.is_some(),
-            compute: compute && at_least(4, 3),
+            compute: version >= compute_gl_version(),
             program_pipelines,
-            renderer: gl.get_parameter_string(glow::RENDERER),
-            vendor: gl.get_parameter_string(glow::VENDOR),
+            renderer,
+            vendor,
             version_string,
         };
-        Ok(Gl { gl, ff, info })
+        Ok(Gl { gl, ff, wide, info })
     }
 
     /// The fixed-function entry points (GL_SELECT backend only creates itself with them).
@@ -176,6 +252,55 @@ impl Gl {
         self.ff
             .as_ref()
             .expect("fixed-function entry points checked at creation")
+    }
+
+    /// glBindBufferRange with 64-bit offset and size (glow's take `i32`). Needs GL 3.0;
+    /// without it, or with a range this platform's `isize` cannot hold, nothing is bound.
+    ///
+    /// # Safety
+    /// The context this was loaded for is current on this thread; `buffer` is 0 or a buffer
+    /// object of it (the GL raises an error for a bad target, index or range).
+    pub unsafe fn bind_buffer_range(
+        &self,
+        target: u32,
+        index: u32,
+        buffer: u32,
+        offset: i64,
+        size: i64,
+    ) {
+        let (Some(f), Ok(offset), Ok(size)) = (
+            self.wide.bind_buffer_range,
+            isize::try_from(offset),
+            isize::try_from(size),
+        ) else {
+            return;
+        };
+        // SAFETY: glBindBufferRange as loaded for the current context (caller's contract);
+        // the GL validates the target, index, buffer and range.
+        unsafe { f(target, index, buffer, offset, size) }
+    }
+
+    /// The size in bytes of the buffer bound to `target`, in 64 bits where the GL has
+    /// glGetBufferParameteri64v (GL 3.2), else through the 32-bit query.
+    ///
+    /// # Safety
+    /// The context this was loaded for is current on this thread and a buffer is bound to
+    /// `target`.
+    pub unsafe fn buffer_size(&self, target: u32) -> u64 {
+        let size = match self.wide.get_buffer_parameter_i64v {
+            Some(f) => {
+                let mut v = 0i64;
+                // SAFETY: the current context's entry point (caller's contract), writing
+                // one GLint64 to `v`.
+                unsafe { f(target, glow::BUFFER_SIZE, &mut v) };
+                v
+            }
+            // SAFETY: a GL 1.5 query on the current context (caller's contract).
+            None => {
+                i64::from(unsafe { self.gl.get_buffer_parameter_i32(target, glow::BUFFER_SIZE) })
+            }
+        };
+        size.max(0) as u64
     }
 
     /// Takes every pending GL error; `Err(GL_ERROR)` naming them and `what` if any.
@@ -194,6 +319,8 @@ impl Gl {
     fn take_errors(&self) -> Vec<u32> {
         let mut codes = Vec::new();
         for _ in 0..8 {
+            // SAFETY: glGetError on the context these entry points were loaded for, current
+            // on this thread whenever a GL-backed call runs (the C API's contract).
             let e = unsafe { self.gl.get_error() };
             if e == glow::NO_ERROR {
                 break;
@@ -241,23 +368,65 @@ pub fn error_name(e: u32) -> &'static str {
     }
 }
 
+/// GL_UNAVAILABLE with `msg`: the context cannot run what was asked.
 pub fn unavailable(msg: impl Into<String>) -> Error {
     Error::new(ErrorKind::GlUnavailable, msg)
 }
 
-/// A GL object name as glow wants it (0 = none).
+/// GL_ERROR with glow's message (an object the GL would not create).
+pub fn gl_err(e: String) -> Error {
+    Error::new(ErrorKind::GlError, e)
+}
+
+/// The GL version the GL_COMPUTE shaders need: what their `#version` line asks for
+/// (`#version 430`, GL 4.3: compute shaders, shader storage blocks, std430 and `double`).
+/// A context below it cannot compile them whatever extensions it lists: an older context
+/// with GL_ARB_compute_shader (and GL_ARB_shader_storage_buffer_object) would need the
+/// shaders written for its own GLSL version with `#extension` lines, which they are not.
+pub fn compute_gl_version() -> (u32, u32) {
+    let v: u32 = shaders::COMMON
+        .lines()
+        .next()
+        .and_then(|l| l.strip_prefix("#version "))
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .expect("common.glsl starts with a #version line");
+    (v / 100, v / 10 % 10)
+}
+
+/// `count` items of `item` bytes as a size or offset for the GL (`GLsizeiptr` through
+/// glow's `i32`): `Err(OUT_OF_MEMORY)` naming `what` when the product overflows or is past
+/// `i32::MAX`, instead of a size that wraps.
+pub fn gl_bytes(count: u64, item: u64, what: &str) -> Result<i32> {
+    count
+        .checked_mul(item)
+        .and_then(|n| i32::try_from(n).ok())
+        .ok_or_else(|| {
+            Error::new(
+                ErrorKind::OutOfMemory,
+                format!(
+                    "{what}: {count} x {item} bytes is more than one GL buffer takes here                      (2 GiB through 32-bit sizes)"
+                ),
+            )
+        })
+}
+
+/// A buffer name as glow wants it (0 = none).
 pub fn buffer(name: u32) -> Option<glow::NativeBuffer> {
     NonZeroU32::new(name).map(glow::NativeBuffer)
 }
+/// A framebuffer name as glow wants it (0 = none).
 pub fn framebuffer(name: u32) -> Option<glow::NativeFramebuffer> {
     NonZeroU32::new(name).map(glow::NativeFramebuffer)
 }
+/// A renderbuffer name as glow wants it (0 = none).
 pub fn renderbuffer(name: u32) -> Option<glow::NativeRenderbuffer> {
     NonZeroU32::new(name).map(glow::NativeRenderbuffer)
 }
+/// A program name as glow wants it (0 = none).
 pub fn program(name: u32) -> Option<glow::NativeProgram> {
     NonZeroU32::new(name).map(glow::NativeProgram)
 }
+/// A vertex array name as glow wants it (0 = none).
 pub fn vertex_array(name: u32) -> Option<glow::NativeVertexArray> {
     NonZeroU32::new(name).map(glow::NativeVertexArray)
 }
@@ -311,5 +480,32 @@ mod tests {
             ErrorKind::GlError
         );
         assert_eq!(errors_during(&[], "x", ErrorKind::GlError), Ok(()));
+    }
+
+    #[test]
+    fn the_shaders_version_decides_the_gl_they_need() {
+        assert_eq!(compute_gl_version(), (4, 3));
+        // Only common.glsl, the first source string, has a #version line.
+        for body in [shaders::GATHER, shaders::MEETS, shaders::QUERY] {
+            assert!(!body.contains("#version"));
+        }
+    }
+
+    #[test]
+    fn gl_sizes_are_checked_not_wrapped() {
+        assert_eq!(gl_bytes(0, 24, "x"), Ok(0));
+        assert_eq!(gl_bytes(1000, 12, "x"), Ok(12_000));
+        assert_eq!(gl_bytes(i32::MAX as u64, 1, "x"), Ok(i32::MAX));
+        // `as i32 * 12` would wrap these to small or negative sizes.
+        for (n, item) in [
+            (1u64 << 31, 1),
+            (178_956_971, 12),
+            (u64::MAX, 2),
+            (1 << 40, 24),
+        ] {
+            let e = gl_bytes(n, item, "the positions").unwrap_err();
+            assert_eq!(e.kind, ErrorKind::OutOfMemory);
+            assert!(e.message.contains("the positions"), "{}", e.message);
+        }
     }
 }
