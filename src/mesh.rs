@@ -57,8 +57,8 @@ impl<'a> Positions<'a> {
     /// stride is below 12 or not a multiple of 4, `count` is more than a mesh can have
     /// (2^32 - 1), or `bytes` is too short.
     pub fn new(bytes: &'a [u8], count: usize, stride: usize) -> Result<Positions<'a>> {
-        let stride = if stride == 0 { 12 } else { stride };
-        if stride < 12 || stride % 4 != 0 {
+        let stride = Self::stride_or_packed(stride);
+        if stride < Self::PACKED_STRIDE || stride % 4 != 0 {
             return Err(Error::invalid(format!(
                 "position_stride {stride} must be 0 or a multiple of 4 that is at least 12"
             )));
@@ -85,6 +85,18 @@ impl<'a> Positions<'a> {
     /// From tightly packed points.
     pub fn from_points(points: &'a [[f32; 3]]) -> Positions<'a> {
         Positions(Src::Points(points))
+    }
+
+    /// Bytes of one tightly packed vertex (three `f32`): the stride a stride of 0 means.
+    pub const PACKED_STRIDE: usize = 12;
+
+    /// A stride as the APIs take it: 0 means tightly packed ([`Self::PACKED_STRIDE`]).
+    pub const fn stride_or_packed(stride: usize) -> usize {
+        if stride == 0 {
+            Self::PACKED_STRIDE
+        } else {
+            stride
+        }
     }
 
     /// Bytes a strided array of `count` vertices spans (`None` on overflow).
