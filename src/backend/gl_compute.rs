@@ -4,7 +4,7 @@
 //! - Every mesh's positions live in one buffer object (an arena of xyz floats, all meshes),
 //!   uploaded when a mesh's positions change, or gathered on the GPU from the host's own
 //!   buffer object (`glcol_mesh_bind_gl_buffer`: no copy through the CPU).
-//! - The whole query runs on the GPU ([`Selector::run_query`], shaders/query.glsl), one
+//! - The whole query runs on the GPU ([`WholeQuery::run_query`], shaders/query.glsl), one
 //!   thread per test in every step: step 1 over the other meshes' leaves, step 2 over (step-1
 //!   hit, reference leaf), steps 3-4 and 5 over the tests of each leaf pair, counted by a scan
 //!   over the pairs on the GPU and dispatched indirectly. Each step appends through atomic
@@ -19,13 +19,19 @@
 //!   NaN or infinity names the mesh in the result.
 //! - Limits: room past `GL_MAX_SHADER_STORAGE_BLOCK_SIZE` is refused (OUT_OF_MEMORY)
 //!   before anything is allocated; a step of 2^31 tests or more (UNSUPPORTED) before it is
-//!   dispatched.
+//!   dispatched; every byte size and offset is computed with checked arithmetic
+//!   ([`gl_bytes`]).
 //! - Box tests are padded (float rounding can only add pairs); the polygon viewing volume
 //!   of step 5 is clipped in double precision in a frame local to the reference polygon.
 //!   When every mesh of the query has its positions on the CPU too, each step-5 hit is
 //!   confirmed with the CPU backend's test, so the answer equals the CPU backend's; with
 //!   buffer-bound meshes the GPU's answer is final (extras within epsilon / 2 + 2^-40 of
 //!   the local size).
+//!
+//! Borrows: the state guard borrows the selector's [`Gl`] while the work runs on the rest of
+//! it ([`Compute`]), two disjoint fields ([`GlComputeSelector::guarded`]).
+
+#![deny(unsafe_op_in_unsafe_fn)]
 
 use std::collections::BTreeMap;
 
@@ -34,219 +40,23 @@ use glow::HasContext;
 use super::{Backend, Contact, Engine, QueryMeshes, QueryStats, Selector, WholeQuery};
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::polygon::polygon_meets;
+use crate::geom::sortable_key;
 use crate::gpu::state::{StateGuard, Uses};
-use crate::gpu::{buffer, unavailable, Gl};
-use crate::mesh::Mesh;
-
-const COMMON: &str = include_str!("../gpu/shaders/common.glsl");
-const GATHER: &str = include_str!("../gpu/shaders/gather.glsl");
-const MEETS: &str = include_str!("../gpu/shaders/meets.glsl");
-const QUERY: &str = include_str!("../gpu/shaders/query.glsl");
+use crate::gpu::{buffer, gl_bytes, gl_err, shaders, unavailable, Gl};
+use crate::mesh::{Mesh, Positions};
 
 /// Indexed buffer bindings the shaders use (0..BINDINGS).
 const BINDINGS: u32 = 12;
 /// Shader storage blocks the busiest kernel uses.
 const BLOCKS: u32 = 7;
+/// Threads per work group (`local_size_x` in common.glsl).
 const GROUP: u32 = 64;
 
-/// Where a mesh lives in the arenas.
-#[derive(Clone, Debug, PartialEq)]
-struct Slot {
-    /// Position in the arenas' mesh order.
-    index: u32,
-    vertex_base: u32,
-    poly_base: u32,
-    leaf_base: u32,
-    vertices: u32,
-    leaves: u32,
-    polys: u32,
-    /// `Mesh::generation` last uploaded (None: must upload).
-    uploaded: Option<u64>,
-}
-
-/// A host buffer a mesh reads its positions from.
-#[derive(Clone, Copy, Debug)]
-struct Bound {
-    buffer: u32,
-    offset: usize,
-    stride: usize,
-}
-
-struct Objects {
-    gather: glow::NativeProgram,
-    /// The whole-query kernels of query.glsl: refit + root, step 1, dispatch sizes, step 2,
-    /// steps 3 and 4, step 5.
-    query: [glow::NativeProgram; 6],
-    /// See the buffer constants (POS ... RESULT).
-    buffers: [glow::NativeBuffer; NBUF],
-}
-
-/// Room in the whole-query buffers (entries); grown when a query's answer needs more.
-#[derive(Clone, Copy, Debug)]
-struct Caps {
-    pairs: u32,
-    lists: u32,
-    hits: u32,
-}
-
-impl Default for Caps {
-    fn default() -> Caps {
-        Caps {
-            pairs: 1 << 14,
-            lists: 1 << 20,
-            hits: 1 << 16,
-        }
-    }
-}
-
-/// The GL_COMPUTE backend.
-pub struct GlComputeSelector {
-    gl: Gl,
-    obj: Option<Objects>,
-    slots: BTreeMap<u32, Slot>,
-    bound: BTreeMap<u32, Bound>,
-    caps: Caps,
-    /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes.
-    max_block: u64,
-    /// Read-backs since `take_readbacks`.
-    readbacks: u32,
-    /// Capacities the GPU buffers were last sized for (None: never).
-    sized: Option<(Caps, u32)>,
-    /// Scratch for the leaf boxes of a mesh.
-    box_words: Vec<f32>,
-}
-
-fn bytes<T: Copy>(v: &[T]) -> &[u8] {
-    // SAFETY: plain-old-data (u32/f32) viewed as bytes.
-    unsafe { std::slice::from_raw_parts(v.as_ptr().cast(), std::mem::size_of_val(v)) }
-}
-
-fn gl_err(e: String) -> Error {
-    Error::new(ErrorKind::GlError, e)
-}
-
-/// Compiles common.glsl, meets.glsl when the kernel tests primitives, and `body` (source
-/// string numbers in the GL's log: 0 common, 1 meets, 2 body).
-unsafe fn compile(
-    g: &glow::Context,
-    name: &str,
-    body: &str,
-    meets: bool,
-) -> Result<glow::NativeProgram> {
-    let sh = g.create_shader(glow::COMPUTE_SHADER).map_err(gl_err)?;
-    let meets = if meets { MEETS } else { "" };
-    let src = format!("{COMMON}\n#line 1 1\n{meets}\n#line 1 2\n{body}");
-    g.shader_source(sh, &src);
-    g.compile_shader(sh);
-    if !g.get_shader_compile_status(sh) {
-        let log = g.get_shader_info_log(sh);
-        g.delete_shader(sh);
-        return Err(Error::new(
-            ErrorKind::GlUnavailable,
-            format!("the {name} compute shader does not compile here: {log}"),
-        ));
-    }
-    let p = g.create_program().map_err(gl_err)?;
-    g.attach_shader(p, sh);
-    g.link_program(p);
-    g.detach_shader(p, sh);
-    g.delete_shader(sh);
-    if !g.get_program_link_status(p) {
-        let log = g.get_program_info_log(p);
-        g.delete_program(p);
-        return Err(Error::new(
-            ErrorKind::GlUnavailable,
-            format!("the {name} compute shader does not link here: {log}"),
-        ));
-    }
-    Ok(p)
-}
-
-impl GlComputeSelector {
-    /// Needs GL 4.3+ (compute shaders, SSBOs, double precision).
-    pub fn new(gl: Gl) -> Result<GlComputeSelector> {
-        if !gl.info.compute {
-            return Err(unavailable(format!(
-                "GLCOL_BACKEND_GL_COMPUTE needs GL 4.3 (compute shaders); the context is \"{}\"",
-                gl.info.version_string
-            )));
-        }
-        let (bindings, blocks) = unsafe {
-            (
-                gl.gl
-                    .get_parameter_i32(glow::MAX_SHADER_STORAGE_BUFFER_BINDINGS),
-                gl.gl
-                    .get_parameter_i32(glow::MAX_COMPUTE_SHADER_STORAGE_BLOCKS),
-            )
-        };
-        if bindings < BINDINGS as i32 || blocks < BLOCKS as i32 {
-            return Err(unavailable(format!(
-                "GLCOL_BACKEND_GL_COMPUTE needs {BINDINGS} shader storage buffer bindings and \
-                 {BLOCKS} storage blocks per compute shader; this GL has {bindings} and {blocks}"
-            )));
-        }
-        let max_block =
-            unsafe { gl.gl.get_parameter_i64(glow::MAX_SHADER_STORAGE_BLOCK_SIZE) } as u64;
-        let mut s = GlComputeSelector {
-            gl,
-            obj: None,
-            slots: BTreeMap::new(),
-            bound: BTreeMap::new(),
-            caps: Caps::default(),
-            max_block,
-            readbacks: 0,
-            sized: None,
-            box_words: Vec::new(),
-        };
-        let guard = StateGuard::enter(&s.gl, uses())?;
-        let g = &s.gl.gl;
-        let made = unsafe {
-            (|| -> Result<Objects> {
-                let gather = compile(g, "gather", GATHER, false)?;
-                let mut programs = vec![gather];
-                let fail = |programs: &[glow::NativeProgram]| {
-                    for &p in programs {
-                        g.delete_program(p);
-                    }
-                };
-                let mut query = Vec::new();
-                for k in 1..=6 {
-                    let body = format!("#define KERNEL {k}\n#line 1 2\n{QUERY}");
-                    let p = compile(g, "query", &body, true).inspect_err(|_| fail(&programs))?;
-                    programs.push(p);
-                    query.push(p);
-                }
-                let mut buffers = Vec::new();
-                for _ in 0..NBUF {
-                    let b = g.create_buffer().map_err(gl_err)?;
-                    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
-                    g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
-                    buffers.push(b);
-                }
-                Ok(Objects {
-                    gather,
-                    query: query.try_into().unwrap(),
-                    buffers: buffers.try_into().unwrap(),
-                })
-            })()
-        };
-        let done = guard.finish();
-        let obj = made?;
-        s.obj = Some(obj);
-        if let Err(e) = done {
-            s.release();
-            return Err(e);
-        }
-        Ok(s)
-    }
-}
-
-fn uses() -> Uses {
-    Uses {
-        fixed_function: false,
-        indexed_bindings: BINDINGS,
-    }
-}
+/// The state the guard saves around our work: the common state and our indexed bindings.
+const USES: Uses = Uses {
+    fixed_function: false,
+    indexed_bindings: BINDINGS,
+};
 
 const POS: usize = 0;
 const POLYS: usize = 1;
@@ -268,67 +78,458 @@ const RESULT: usize = 10;
 /// Root box keys per mesh of the arena.
 const ROOTS: usize = 11;
 const NBUF: usize = 12;
-/// Shader binding of each buffer (the host source buffer is binding 6; the roots share
-/// gather's binding 8).
+/// Shader binding of each buffer (the roots share gather's binding 8).
 const BINDING: [u32; NBUF] = [0, 1, 7, 8, 9, 10, 11, 2, 3, 4, 5, 8];
-/// Words of the whole query's result header.
+/// Shader binding of the host's source buffer (gather.glsl).
+const SRC_BINDING: u32 = 6;
+/// Words of the result header.
 const HEADER: usize = 64;
+/// Header words (query.glsl's `Result` block).
+const H_NONFINITE: usize = 0;
+const H_L1: usize = 1;
+const H_PAIRS: usize = 2;
+const H_LIST: usize = 3;
+const H_HITS: usize = 4;
+const H_TESTS3: usize = 5;
+const H_TESTS4: usize = 6;
+const H_HITS3: usize = 7;
+const H_HITS4: usize = 8;
+const H_TOTAL5: usize = 10;
+const H_TOO_MANY: usize = 11;
+const H_HALF_DEPTH: usize = 12;
+/// Header words of the indirect dispatch sizes of steps 2, 3-4 and 5.
+const H_ARGS: [u32; 3] = [24, 28, 32];
+/// Box padding relative to the local size (`u_pad_rel`): 2^-40.
+const PAD_REL: f32 = 1.0 / (1u64 << 40) as f32;
 
-unsafe fn upload(g: &glow::Context, b: glow::NativeBuffer, data: &[u8]) {
-    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
-    if data.is_empty() {
-        g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
-    } else {
-        g.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, data, glow::DYNAMIC_DRAW);
+/// Where a mesh lives in the arenas.
+#[derive(Clone, Debug, PartialEq)]
+struct Slot {
+    /// Position in the arenas' mesh order.
+    index: u32,
+    vertex_base: u32,
+    poly_base: u32,
+    leaf_base: u32,
+    vertices: u32,
+    leaves: u32,
+    polys: u32,
+    /// `Mesh::generation` last uploaded (None: must upload).
+    uploaded: Option<u64>,
+}
+
+/// A host buffer a mesh reads its positions from, in floats (gather.glsl's units).
+#[derive(Clone, Copy, Debug)]
+struct Bound {
+    buffer: u32,
+    offset: u32,
+    stride: u32,
+}
+
+struct Objects {
+    gather: glow::NativeProgram,
+    /// The kernels of query.glsl.
+    query: Kernels,
+    /// See the buffer constants (POS ... ROOTS).
+    buffers: [glow::NativeBuffer; NBUF],
+}
+
+/// query.glsl compiled once per `KERNEL` (1 to 6, in this order).
+#[derive(Clone, Copy)]
+struct Kernels {
+    refit: glow::NativeProgram,
+    step1: glow::NativeProgram,
+    sizes: glow::NativeProgram,
+    step2: glow::NativeProgram,
+    step34: glow::NativeProgram,
+    step5: glow::NativeProgram,
+}
+
+impl Kernels {
+    fn all(&self) -> [glow::NativeProgram; 6] {
+        [
+            self.refit,
+            self.step1,
+            self.sizes,
+            self.step2,
+            self.step34,
+            self.step5,
+        ]
     }
 }
 
-unsafe fn set_u32(g: &glow::Context, p: glow::NativeProgram, name: &str, v: u32) {
-    let l = g.get_uniform_location(p, name);
-    g.uniform_1_u32(l.as_ref(), v);
+/// Room in the query's buffers (entries); grown when a query's answer needs more.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Caps {
+    pairs: u32,
+    lists: u32,
+    hits: u32,
 }
 
-/// Dispatches `n` threads of the bound program (2D grid when `n` is large).
+impl Default for Caps {
+    fn default() -> Caps {
+        Caps {
+            pairs: 1 << 14,
+            lists: 1 << 20,
+            hits: 1 << 16,
+        }
+    }
+}
+
+/// The GL_COMPUTE backend.
+pub struct GlComputeSelector {
+    gl: Gl,
+    st: Compute,
+}
+
+/// Everything of the backend but its GL entry points, so that the state guard can borrow
+/// the one while the work borrows the other.
+struct Compute {
+    obj: Option<Objects>,
+    slots: BTreeMap<u32, Slot>,
+    bound: BTreeMap<u32, Bound>,
+    caps: Caps,
+    /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes.
+    max_block: u64,
+    /// Read-backs since `take_readbacks`.
+    readbacks: u32,
+    /// Capacities the GPU buffers were last sized for, and the step-1 room (None: never).
+    sized: Option<(Caps, u32)>,
+    /// Scratch for the leaf boxes of a mesh.
+    box_words: Vec<f32>,
+}
+
+/// Types whose every bit pattern is a value and which have no padding.
+trait Plain: Copy {}
+impl Plain for u32 {}
+impl Plain for f32 {}
+impl Plain for [f32; 3] {}
+
+fn bytes<T: Plain>(v: &[T]) -> &[u8] {
+    // SAFETY: `T` is plain data without padding (`Plain`), so its bytes are initialized; the
+    // slice covers exactly `v`'s memory, borrowed for as long as `v`.
+    unsafe { std::slice::from_raw_parts(v.as_ptr().cast(), std::mem::size_of_val(v)) }
+}
+
+/// Compiles common.glsl, meets.glsl when the kernel tests primitives, and `body` (source
+/// string numbers in the GL's log: 0 common, 1 meets, 2 body). Deletes the shader, and the
+/// program when it does not link.
+///
+/// # Safety
+/// `g` was loaded for the context current on this thread.
+unsafe fn compile(
+    g: &glow::Context,
+    name: &str,
+    body: &str,
+    meets: bool,
+) -> Result<glow::NativeProgram> {
+    let meets = if meets { shaders::MEETS } else { "" };
+    let src = format!("{}\n#line 1 1\n{meets}\n#line 1 2\n{body}", shaders::COMMON);
+    // SAFETY: the caller's contract; the shader and program are ours, made here.
+    unsafe {
+        let sh = g.create_shader(glow::COMPUTE_SHADER).map_err(gl_err)?;
+        g.shader_source(sh, &src);
+        g.compile_shader(sh);
+        if !g.get_shader_compile_status(sh) {
+            let log = g.get_shader_info_log(sh);
+            g.delete_shader(sh);
+            return Err(unavailable(format!(
+                "the {name} compute shader does not compile here: {log}"
+            )));
+        }
+        let p = match g.create_program() {
+            Ok(p) => p,
+            Err(e) => {
+                g.delete_shader(sh);
+                return Err(gl_err(e));
+            }
+        };
+        g.attach_shader(p, sh);
+        g.link_program(p);
+        g.detach_shader(p, sh);
+        g.delete_shader(sh);
+        if !g.get_program_link_status(p) {
+            let log = g.get_program_info_log(p);
+            g.delete_program(p);
+            return Err(unavailable(format!(
+                "the {name} compute shader does not link here: {log}"
+            )));
+        }
+        Ok(p)
+    }
+}
+
+/// Compiles the kernels and creates the buffers; on a failure deletes what it made.
+///
+/// # Safety
+/// `g` was loaded for the context current on this thread.
+unsafe fn create_objects(g: &glow::Context) -> Result<Objects> {
+    let mut programs = Vec::new();
+    let mut buffers = Vec::new();
+    // SAFETY: the caller's contract; every object is ours, made here.
+    let made = (|| unsafe {
+        programs.push(compile(g, "gather", shaders::GATHER, false)?);
+        for k in 1..=6 {
+            let body = format!("#define KERNEL {k}\n#line 1 2\n{}", shaders::QUERY);
+            programs.push(compile(g, "query", &body, true)?);
+        }
+        for _ in 0..NBUF {
+            let b = g.create_buffer().map_err(gl_err)?;
+            buffers.push(b);
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+            g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
+        }
+        Ok::<(), Error>(())
+    })();
+    if let Err(e) = made {
+        // SAFETY: the caller's contract; these objects are ours and bound nowhere the host
+        // keeps (the caller's guard restores the bindings).
+        unsafe {
+            for p in programs {
+                g.delete_program(p);
+            }
+            for b in buffers {
+                g.delete_buffer(b);
+            }
+        }
+        return Err(e);
+    }
+    let [gather, refit, step1, sizes, step2, step34, step5] = programs[..] else {
+        unreachable!("seven programs made")
+    };
+    Ok(Objects {
+        gather,
+        query: Kernels {
+            refit,
+            step1,
+            sizes,
+            step2,
+            step34,
+            step5,
+        },
+        buffers: buffers.try_into().expect("NBUF buffers made"),
+    })
+}
+
+/// Replaces the contents of buffer `b` with `data` (16 bytes when empty: a GL buffer bound
+/// to a storage block must have a size).
+///
+/// # Safety
+/// `g` was loaded for the context current on this thread; `b` is a buffer of ours.
+unsafe fn upload(g: &glow::Context, b: glow::NativeBuffer, data: &[u8]) {
+    // SAFETY: the caller's contract; glow passes the slice's own length.
+    unsafe {
+        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+        if data.is_empty() {
+            g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, 16, glow::DYNAMIC_DRAW);
+        } else {
+            g.buffer_data_u8_slice(glow::SHADER_STORAGE_BUFFER, data, glow::DYNAMIC_DRAW);
+        }
+    }
+}
+
+/// Allocates buffer `b` with `size` bytes (at least 16), contents undefined.
+///
+/// # Safety
+/// As [`upload`].
+unsafe fn allocate(g: &glow::Context, b: glow::NativeBuffer, size: i32, usage: u32) {
+    // SAFETY: the caller's contract; `size` is non-negative (checked by `gl_bytes`).
+    unsafe {
+        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+        g.buffer_data_size(glow::SHADER_STORAGE_BUFFER, size.max(16), usage);
+    }
+}
+
+/// Sets the `uint` uniform `name` of the program in use (ignored when the kernel has none).
+///
+/// # Safety
+/// `g` was loaded for the context current on this thread; `p` is ours and in use.
+unsafe fn set_u32(g: &glow::Context, p: glow::NativeProgram, name: &str, v: u32) {
+    // SAFETY: the caller's contract; a location of `p` (or none).
+    unsafe {
+        let l = g.get_uniform_location(p, name);
+        g.uniform_1_u32(l.as_ref(), v);
+    }
+}
+
+/// Sets the `float` uniform `name` of the program in use, as [`set_u32`].
+///
+/// # Safety
+/// As [`set_u32`].
+unsafe fn set_f32(g: &glow::Context, p: glow::NativeProgram, name: &str, v: f32) {
+    // SAFETY: the caller's contract; a location of `p` (or none).
+    unsafe {
+        let l = g.get_uniform_location(p, name);
+        g.uniform_1_f32(l.as_ref(), v);
+    }
+}
+
+/// Dispatches `n` threads of the program in use (2D grid when `n` is large).
+///
+/// # Safety
+/// As [`set_u32`].
 unsafe fn dispatch(g: &glow::Context, p: glow::NativeProgram, n: u32) {
-    set_u32(g, p, "u_count", n);
     let groups = n.div_ceil(GROUP).max(1);
     let x = groups.min(65535);
     let y = groups.div_ceil(x);
-    g.dispatch_compute(x, y, 1);
+    // SAFETY: the caller's contract; at most 65535 groups a side.
+    unsafe {
+        set_u32(g, p, "u_count", n);
+        g.dispatch_compute(x, y, 1);
+    }
+}
+
+fn too_big() -> Error {
+    Error::new(
+        ErrorKind::Unsupported,
+        "the query needs more GPU buffer room than 32-bit counts can address",
+    )
+}
+
+fn arena_too_big(what: &str) -> Error {
+    Error::new(
+        ErrorKind::Unsupported,
+        format!("the scene's meshes have 2^32 {what} or more in all; GL_COMPUTE numbers them in 32 bits"),
+    )
 }
 
 impl GlComputeSelector {
-    /// Lays every mesh out in the arenas again (meshes were added or removed).
-    unsafe fn rebuild(&mut self, meshes: &BTreeMap<u32, Mesh>) {
-        let g = &self.gl.gl;
-        let o = self.obj.as_ref().unwrap();
-        self.slots.clear();
-        let (mut vb, mut pb, mut lb) = (0u32, 0u32, 0u32);
-        let mut polys: Vec<u32> = Vec::new();
-        let mut range: Vec<u32> = Vec::new();
-        let mut verts: Vec<u32> = Vec::new();
-        let mut leaf_polys: Vec<u32> = Vec::new();
+    /// Needs GL 4.3+ (compute shaders, SSBOs, double precision: see
+    /// [`crate::gpu::compute_gl_version`]) and the context current on this thread.
+    pub fn new(gl: Gl) -> Result<GlComputeSelector> {
+        let max_block = capabilities(&gl)?;
+        let mut s = GlComputeSelector {
+            gl,
+            st: Compute {
+                obj: None,
+                slots: BTreeMap::new(),
+                bound: BTreeMap::new(),
+                caps: Caps::default(),
+                max_block,
+                readbacks: 0,
+                sized: None,
+                box_words: Vec::new(),
+            },
+        };
+        let made = s.guarded(|gl, st| {
+            // SAFETY: `gl` is loaded for the context current on this thread (this
+            // function's contract, as every GL-backed call's).
+            st.obj = Some(unsafe { create_objects(&gl.gl) }?);
+            Ok(())
+        });
+        if let Err(e) = made {
+            s.release(); // objects made before the guard reported an error
+            return Err(e);
+        }
+        Ok(s)
+    }
+
+    /// Runs `work` between saving the host's GL state and restoring it: the guard borrows
+    /// `self.gl` while `work` gets the GL and the rest of the selector as separate borrows.
+    /// `work`'s error comes first, then the guard's (a GL error of ours).
+    fn guarded<R>(&mut self, work: impl FnOnce(&Gl, &mut Compute) -> Result<R>) -> Result<R> {
+        let guard = StateGuard::enter(&self.gl, USES)?;
+        let r = work(&self.gl, &mut self.st);
+        let done = guard.finish();
+        let r = r?;
+        done.map(|()| r)
+    }
+
+    /// Room the query's buffers start from (leaf pairs, step-3/4 list words, step-5 hits);
+    /// they grow when a query needs more. For tests of the growth path.
+    pub fn set_room(&mut self, pairs: u32, lists: u32, hits: u32) {
+        self.st.caps = Caps {
+            pairs: pairs.max(1),
+            lists: lists.max(1),
+            hits: hits.max(1),
+        };
+    }
+}
+
+/// Checks what the kernels need of the GL; GL_MAX_SHADER_STORAGE_BLOCK_SIZE in bytes.
+fn capabilities(gl: &Gl) -> Result<u64> {
+    if !gl.info.compute {
+        let (major, minor) = crate::gpu::compute_gl_version();
+        return Err(unavailable(format!(
+            "GLCOL_BACKEND_GL_COMPUTE needs GL {major}.{minor} (its shaders are GLSL \
+             {major}.{minor}0: compute shaders, shader storage blocks); the context is \"{}\"",
+            gl.info.version_string
+        )));
+    }
+    // SAFETY: GL 4.3 queries (checked above) on the context current on this thread.
+    let (bindings, blocks, max_block) = unsafe {
+        (
+            gl.gl
+                .get_parameter_i32(glow::MAX_SHADER_STORAGE_BUFFER_BINDINGS),
+            gl.gl
+                .get_parameter_i32(glow::MAX_COMPUTE_SHADER_STORAGE_BLOCKS),
+            gl.gl.get_parameter_i64(glow::MAX_SHADER_STORAGE_BLOCK_SIZE),
+        )
+    };
+    if bindings < BINDINGS as i32 || blocks < BLOCKS as i32 {
+        return Err(unavailable(format!(
+            "GLCOL_BACKEND_GL_COMPUTE needs {BINDINGS} shader storage buffer bindings and \
+             {BLOCKS} storage blocks per compute shader; this GL has {bindings} and {blocks}"
+        )));
+    }
+    Ok(max_block.max(0) as u64)
+}
+
+/// The arenas' index arrays for a set of meshes, and where each mesh lives in them.
+#[derive(Default)]
+struct Arena {
+    slots: BTreeMap<u32, Slot>,
+    /// 4 global slot ids per polygon (the 4th u32::MAX for a triangle).
+    polys: Vec<u32>,
+    /// (first slot, end slot, arena index) per global leaf.
+    range: Vec<u32>,
+    /// Slot -> the caller's vertex index, all meshes.
+    verts: Vec<u32>,
+    /// (first, end) global polygon per global leaf.
+    leaf_polys: Vec<u32>,
+    vertices: u32,
+    leaves: u32,
+}
+
+impl Arena {
+    /// Lays `meshes` out one after the other; counts past 32 bits are refused.
+    fn of(meshes: &BTreeMap<u32, Mesh>) -> Result<Arena> {
+        let mut a = Arena::default();
+        let mut polys_total = 0u32;
         for (index, (&id, m)) in meshes.iter().enumerate() {
-            let k = m.k;
-            let nslots = m.slot_positions().len() as u32;
+            let (vb, pb, lb) = (a.vertices, polys_total, a.leaves);
+            let count = |n: usize, what| u32::try_from(n).map_err(|_| arena_too_big(what));
+            let nslots = count(m.slot_positions().len(), "vertex slots")?;
+            let npolys = count(m.polygon_count(), "polygons")?;
+            let nleaves = count(m.leaf_count(), "leaves")?;
+            // Every id below is below these ends, so no sum below can wrap.
+            a.vertices = vb
+                .checked_add(nslots)
+                .ok_or_else(|| arena_too_big("vertex slots"))?;
+            polys_total = pb
+                .checked_add(npolys)
+                .ok_or_else(|| arena_too_big("polygons"))?;
+            a.leaves = lb
+                .checked_add(nleaves)
+                .ok_or_else(|| arena_too_big("leaves"))?;
             for p in 0..m.polygon_count() {
                 let v = m.poly(p);
-                polys.extend(v.iter().map(|&x| x + vb));
-                if k == 3 {
-                    polys.push(u32::MAX);
+                a.polys.extend(v.iter().map(|&x| x + vb));
+                if m.k == 3 {
+                    a.polys.push(u32::MAX);
                 }
             }
             let lv = &m.leaves;
             for l in 0..lv.len() {
-                range.extend([
+                a.range.extend([
                     lv.leaf_slots[l] + vb,
                     lv.leaf_slots[l + 1] + vb,
                     index as u32,
                 ]);
-                leaf_polys.extend([lv.leaf_polys[l] + pb, lv.leaf_polys[l + 1] + pb]);
+                a.leaf_polys
+                    .extend([lv.leaf_polys[l] + pb, lv.leaf_polys[l + 1] + pb]);
             }
-            verts.extend_from_slice(m.slot_vertices());
-            self.slots.insert(
+            a.verts.extend_from_slice(m.slot_vertices());
+            a.slots.insert(
                 id,
                 Slot {
                     index: index as u32,
@@ -336,38 +537,43 @@ impl GlComputeSelector {
                     poly_base: pb,
                     leaf_base: lb,
                     vertices: nslots,
-                    leaves: m.leaf_count() as u32,
-                    polys: m.polygon_count() as u32,
+                    leaves: nleaves,
+                    polys: npolys,
                     uploaded: None,
                 },
             );
-            vb += nslots;
-            pb += m.polygon_count() as u32;
-            lb += m.leaf_count() as u32;
         }
-        let b = &o.buffers;
-        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[POS]));
-        g.buffer_data_size(
-            glow::SHADER_STORAGE_BUFFER,
-            (vb as i32 * 12).max(16),
-            glow::DYNAMIC_DRAW,
-        );
-        upload(g, b[POLYS], bytes(&polys));
-        upload(g, b[LEAF_RANGE], bytes(&range));
-        upload(g, b[LEAF_VERTS], bytes(&verts));
-        upload(g, b[LEAF_POLYS], bytes(&leaf_polys));
-        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[BOXES]));
-        g.buffer_data_size(
-            glow::SHADER_STORAGE_BUFFER,
-            (lb as i32 * 24).max(16),
-            glow::DYNAMIC_DRAW,
-        );
-        g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[ROOTS]));
-        g.buffer_data_size(
-            glow::SHADER_STORAGE_BUFFER,
-            (meshes.len() as i32 * 24).max(16),
-            glow::DYNAMIC_DRAW,
-        );
+        Ok(a)
+    }
+}
+
+/// What a query asks of the kernels, worked out on the CPU before any dispatch.
+struct Plan {
+    /// The reference mesh: arena index, first global leaf, leaves.
+    ref_mesh: u32,
+    ref_base: u32,
+    ref_leaves: u32,
+    /// Other meshes of the query.
+    n_others: u32,
+    /// Per other mesh: first global leaf, leaves, first step-1 thread, arena index.
+    others: Vec<u32>,
+    /// Step-1 threads: every leaf of the other meshes (below 2^31).
+    l1_cap: u32,
+    /// (first global polygon, position in the query) per mesh, sorted: maps hits back.
+    bases: Vec<(u32, u32)>,
+    /// (first global leaf, leaves) of the meshes refitted on the GPU (host buffers).
+    refit: Vec<(u32, u32)>,
+    /// Root box keys per mesh of the arena (min xyz, max xyz).
+    roots: Vec<u32>,
+    /// The half depth asked for, before the GPU raises it.
+    h_base: f32,
+    /// The result header the kernels start from.
+    header: [u32; HEADER],
+}
+
+impl Compute {
+    fn objects(&self) -> &Objects {
+        self.obj.as_ref().expect("GL objects exist until release")
     }
 
     fn layout_matches(&self, meshes: &BTreeMap<u32, Mesh>) -> bool {
@@ -379,42 +585,95 @@ impl GlComputeSelector {
             })
     }
 
-    fn prepare_inner(&mut self, meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
+    /// Before each query: lays the meshes out again if they changed, uploads positions
+    /// and boxes that changed on the CPU, gathers host buffers' positions on the GPU.
+    fn prepare(&mut self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
+        if !self.layout_matches(meshes) {
+            self.rebuild(gl, meshes)?;
+        }
+        self.upload_changed(gl, meshes)?;
+        if self.bound.is_empty() {
+            return gl.check("uploading positions");
+        }
+        self.gather_bound(gl, meshes);
+        gl.check("gathering positions from host buffers")
+    }
+
+    /// Lays every mesh out in the arenas again (meshes were added or removed).
+    fn rebuild(&mut self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
+        self.slots.clear();
+        let a = Arena::of(meshes)?;
+        let sizes = [
+            (POS, gl_bytes(a.vertices.into(), 12, "the positions")?),
+            (BOXES, gl_bytes(a.leaves.into(), 24, "the leaf boxes")?),
+            (ROOTS, gl_bytes(meshes.len() as u64, 24, "the root boxes")?),
+        ];
+        let g = &gl.gl;
+        let b = &self.objects().buffers;
+        // SAFETY: `gl` is loaded for the context current on this thread (every GL-backed
+        // call's contract); the buffers are ours, the sizes checked.
         unsafe {
-            if !self.layout_matches(meshes) {
-                self.rebuild(meshes);
+            for (k, size) in sizes {
+                allocate(g, b[k], size, glow::DYNAMIC_DRAW);
             }
-            let g = &self.gl.gl;
-            let o = self.obj.as_ref().unwrap();
-            // CPU-side positions that changed, and their CPU-refitted boxes.
-            for (id, m) in meshes.iter() {
-                let s = self.slots.get_mut(id).unwrap();
-                if !self.bound.contains_key(id) && s.uploaded != Some(m.generation) {
-                    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[POS]));
-                    g.buffer_sub_data_u8_slice(
-                        glow::SHADER_STORAGE_BUFFER,
-                        s.vertex_base as i32 * 12,
-                        bytes(m.slot_positions()),
-                    );
-                    self.box_words.clear();
-                    for b in &m.leaves.boxes {
-                        self.box_words.extend(b.min.iter().chain(&b.max));
-                    }
-                    g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(o.buffers[BOXES]));
-                    g.buffer_sub_data_u8_slice(
-                        glow::SHADER_STORAGE_BUFFER,
-                        s.leaf_base as i32 * 24,
-                        bytes(&self.box_words),
-                    );
-                    s.uploaded = Some(m.generation);
-                }
+            upload(g, b[POLYS], bytes(&a.polys));
+            upload(g, b[LEAF_RANGE], bytes(&a.range));
+            upload(g, b[LEAF_VERTS], bytes(&a.verts));
+            upload(g, b[LEAF_POLYS], bytes(&a.leaf_polys));
+        }
+        self.slots = a.slots;
+        Ok(())
+    }
+
+    /// CPU-side positions that changed, and their CPU-refitted boxes.
+    fn upload_changed(&mut self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
+        let g = &gl.gl;
+        let bufs = self
+            .obj
+            .as_ref()
+            .expect("GL objects exist until release")
+            .buffers;
+        for (id, m) in meshes {
+            let s = self.slots.get_mut(id).expect("laid out");
+            if self.bound.contains_key(id) || s.uploaded == Some(m.generation) {
+                continue;
             }
-            if self.bound.is_empty() {
-                return self.gl.check("uploading positions");
+            let at = gl_bytes(s.vertex_base.into(), 12, "the positions")?;
+            self.box_words.clear();
+            for b in &m.leaves.boxes {
+                self.box_words.extend(b.min.iter().chain(&b.max));
             }
-            // Host buffers: gather into the arena on the GPU (after the host's own shader
-            // writes to them); the query refits their leaves on the GPU and reads nothing back
-            // (disabled meshes are not in it).
+            let boxes_at = gl_bytes(s.leaf_base.into(), 24, "the leaf boxes")?;
+            // SAFETY: as in `rebuild`; the ranges lie in the buffers as `rebuild` sized them
+            // (the mesh's slots and leaves are where its layout put them).
+            unsafe {
+                g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(bufs[POS]));
+                g.buffer_sub_data_u8_slice(
+                    glow::SHADER_STORAGE_BUFFER,
+                    at,
+                    bytes(m.slot_positions()),
+                );
+                g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(bufs[BOXES]));
+                g.buffer_sub_data_u8_slice(
+                    glow::SHADER_STORAGE_BUFFER,
+                    boxes_at,
+                    bytes(&self.box_words),
+                );
+            }
+            s.uploaded = Some(m.generation);
+        }
+        Ok(())
+    }
+
+    /// Host buffers: gathers their positions into the arena on the GPU (after the host's
+    /// own shader writes to them); the query refits their leaves and reads nothing back
+    /// (disabled meshes are not in it, so they are skipped).
+    fn gather_bound(&self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) {
+        let g = &gl.gl;
+        let o = self.objects();
+        // SAFETY: as in `rebuild`; the host's buffer was checked to be a buffer object of
+        // this context holding every vertex at its offset and stride (`bind_gl_buffer`).
+        unsafe {
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             g.use_program(Some(o.gather));
             for k in [POS, LEAF_VERTS] {
@@ -425,96 +684,50 @@ impl GlComputeSelector {
                     continue;
                 }
                 let s = &self.slots[id];
-                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, 6, buffer(b.buffer));
-                set_u32(g, o.gather, "u_src_offset", (b.offset / 4) as u32);
-                set_u32(g, o.gather, "u_src_stride", (b.stride / 4) as u32);
+                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, SRC_BINDING, buffer(b.buffer));
+                set_u32(g, o.gather, "u_src_offset", b.offset);
+                set_u32(g, o.gather, "u_src_stride", b.stride);
                 set_u32(g, o.gather, "u_dst_vertex", s.vertex_base);
                 dispatch(g, o.gather, s.vertices);
             }
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
-            self.gl.check("gathering positions from host buffers")
         }
-    }
-
-    /// Room the whole query's buffers start from (leaf pairs, step-3/4 list words, step-5
-    /// hits); they grow when a query needs more. For tests of the growth path.
-    pub fn set_room(&mut self, pairs: u32, lists: u32, hits: u32) {
-        self.caps = Caps {
-            pairs: pairs.max(1),
-            lists: lists.max(1),
-            hits: hits.max(1),
-        };
-    }
-
-    /// Sizes the whole query's buffers for `caps` and `l1` step-1 hits. A size the GL
-    /// cannot take (past `i32::MAX` bytes or the largest storage block) is refused before
-    /// any allocation; an allocation the GL reports failing forgets the sizes and the room.
-    unsafe fn size_query_buffers(&mut self, l1: u32) -> Result<()> {
-        if self.sized.is_some_and(|(c, l)| {
-            c.pairs == self.caps.pairs
-                && c.lists == self.caps.lists
-                && c.hits == self.caps.hits
-                && l >= l1
-        }) {
-            return Ok(());
-        }
-        let c = self.caps;
-        let l1 = l1.max(self.sized.map_or(0, |(_, l)| l));
-        let sizes = [
-            (L1, "step-1 hits", l1 as u64),
-            (PAIRS, "leaf pairs", 8 * c.pairs as u64),
-            (LISTS, "step-3/4 lists", c.lists as u64),
-            (RESULT, "contacts", HEADER as u64 + 2 * c.hits as u64),
-        ];
-        let limit = self.max_block.min(i32::MAX as u64);
-        if let Some((_, what, words)) = sizes.iter().find(|(_, _, w)| 4 * w > limit) {
-            self.caps = Caps::default(); // the next query starts from the usual room
-            return Err(Error::new(
-                ErrorKind::OutOfMemory,
-                format!(
-                    "the query needs a {} MiB buffer for its {what}; this GL's storage blocks \
-                     take at most {} MiB",
-                    (4 * words) >> 20,
-                    limit >> 20
-                ),
-            ));
-        }
-        let g = &self.gl.gl;
-        let b = &self.obj.as_ref().unwrap().buffers;
-        self.sized = None;
-        for (buf, _, words) in sizes {
-            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[buf]));
-            g.buffer_data_size(
-                glow::SHADER_STORAGE_BUFFER,
-                (4 * words).max(16) as i32,
-                if buf == RESULT {
-                    glow::DYNAMIC_READ
-                } else {
-                    glow::DYNAMIC_COPY
-                },
-            );
-        }
-        if let Err(e) = self.gl.check_alloc("allocating the query's buffers") {
-            self.caps = Caps::default();
-            return Err(e);
-        }
-        self.sized = Some((c, l1));
-        Ok(())
     }
 
     /// Steps 1 to 5 on the GPU, one read-back (see the module's documentation).
-    fn query_inner(
+    fn query(
         &mut self,
+        gl: &Gl,
         q: &QueryMeshes<'_>,
         out: &mut Vec<Contact>,
         stats: &mut QueryStats,
     ) -> Result<()> {
         let t0 = std::time::Instant::now();
+        let plan = self.plan(q)?;
+        let raw = self.run_until_room(gl, &plan)?;
+        stats.tests = [
+            plan.l1_cap as usize,
+            raw[H_L1] as usize * plan.ref_leaves as usize,
+            raw[H_TESTS3] as usize,
+            raw[H_TESTS4] as usize,
+            raw[H_TOTAL5] as usize,
+        ];
+        stats.hits = [
+            raw[H_L1],
+            raw[H_PAIRS],
+            raw[H_HITS3],
+            raw[H_HITS4],
+            raw[H_HITS],
+        ]
+        .map(|x| x as usize);
+        contacts(q, &plan, &raw[HEADER..], out);
+        stats.nanos[0] = t0.elapsed().as_nanos() as u64;
+        Ok(())
+    }
+
+    /// The query's plan: the other meshes' leaves, the roots, the half depth.
+    fn plan(&self, q: &QueryMeshes<'_>) -> Result<Plan> {
         let reference = &self.slots[&q.meshes[0].0];
-        let (ref_mesh, ref_base, ref_leaves) =
-            (reference.index, reference.leaf_base, reference.leaves);
-        // Other meshes: (first global leaf, leaves, first thread, arena index); polygon
-        // bases for mapping hits back, sorted.
         let mut others: Vec<u32> = Vec::with_capacity(4 * q.meshes.len());
         let mut l1_cap = 0u32;
         let mut bases: Vec<(u32, u32)> = Vec::with_capacity(q.meshes.len());
@@ -545,9 +758,8 @@ impl GlComputeSelector {
             match q.meshes.iter().find(|(i, _)| i == id) {
                 Some((_, m)) if !self.bound.contains_key(id) => {
                     let b = m.leaves.root;
-                    for k in 0..3 {
-                        r[k] = order_key(b.min[k]);
-                        r[3 + k] = order_key(b.max[k]);
+                    for (k, key) in r.iter_mut().enumerate() {
+                        *key = sortable_key(if k < 3 { b.min[k] } else { b.max[k - 3] });
                     }
                 }
                 _ => r[..3].fill(u32::MAX), // grown down by the refit
@@ -555,130 +767,42 @@ impl GlComputeSelector {
         }
         let h_base = (q.half_depth as f32).max(0.0);
         let mut header = [0u32; HEADER];
-        header[12] = if refit.is_empty() {
+        header[H_HALF_DEPTH] = if refit.is_empty() {
             ((q.gl_half_depth() * (1.0 + 1e-6)) as f32).to_bits()
         } else {
             h_base.to_bits()
         };
-        let mut raw: Vec<u32> = Vec::new();
-        let mut runs = 0;
-        loop {
-            runs += 1;
+        Ok(Plan {
+            ref_mesh: reference.index,
+            ref_base: reference.leaf_base,
+            ref_leaves: reference.leaves,
+            n_others: q.meshes.len() as u32 - 1,
+            others,
+            l1_cap,
+            bases,
+            refit,
+            roots,
+            h_base,
+            header,
+        })
+    }
+
+    /// Runs the kernels and reads the result back until the buffers hold the whole answer
+    /// (each run completes at least one more step: at most 4 runs grow them); the header
+    /// and the step-5 hits it counts.
+    fn run_until_room(&mut self, gl: &Gl, plan: &Plan) -> Result<Vec<u32>> {
+        let mut raw = Vec::new();
+        for runs in 1.. {
             let caps = self.caps;
-            unsafe { self.size_query_buffers(l1_cap)? };
-            let g = &self.gl.gl;
-            unsafe {
-                let o = self.obj.as_ref().unwrap();
-                let b = &o.buffers;
-                upload(g, b[OTHERS], bytes(&others));
-                upload(g, b[ROOTS], bytes(&roots));
-                g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[RESULT]));
-                g.buffer_sub_data_u8_slice(glow::SHADER_STORAGE_BUFFER, 0, bytes(&header));
-                for k in [
-                    POS, POLYS, BOXES, LEAF_RANGE, LEAF_POLYS, OTHERS, L1, PAIRS, LISTS, RESULT,
-                    ROOTS,
-                ] {
-                    g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(b[k]));
-                }
-                g.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, Some(b[RESULT]));
-                let uniforms = |p: glow::NativeProgram| {
-                    g.use_program(Some(p));
-                    set_u32(g, p, "u_ref_mesh", ref_mesh);
-                    set_u32(g, p, "u_ref_leaf_base", ref_base);
-                    set_u32(g, p, "u_ref_leaves", ref_leaves);
-                    set_u32(g, p, "u_others", q.meshes.len() as u32 - 1);
-                    set_u32(g, p, "u_l1_cap", l1_cap);
-                    set_u32(g, p, "u_pair_cap", caps.pairs);
-                    set_u32(g, p, "u_list_cap", caps.lists);
-                    set_u32(g, p, "u_hit_cap", caps.hits);
-                    let l = g.get_uniform_location(p, "u_pad_rel");
-                    g.uniform_1_f32(l.as_ref(), 1.0 / (1u64 << 40) as f32);
-                    let l = g.get_uniform_location(p, "u_h_base");
-                    g.uniform_1_f32(l.as_ref(), h_base);
-                };
-                let [k_refit, step1, sizes, step2, step34, step5] = o.query;
-                let storage = glow::SHADER_STORAGE_BARRIER_BIT;
-                let command = storage | glow::COMMAND_BARRIER_BIT;
-                if !refit.is_empty() {
-                    uniforms(k_refit);
-                    for &(first, leaves) in &refit {
-                        set_u32(g, k_refit, "u_first_leaf", first);
-                        dispatch(g, k_refit, leaves);
-                    }
-                    g.memory_barrier(storage);
-                    uniforms(sizes);
-                    set_u32(g, sizes, "u_src", 3);
-                    dispatch(g, sizes, GROUP);
-                    g.memory_barrier(storage);
-                }
-                uniforms(step1);
-                dispatch(g, step1, l1_cap);
-                g.memory_barrier(storage);
-                // Each step after step 1: one workgroup sizes it, then it runs.
-                for (src, step, args) in [(0, step2, 24), (1, step34, 28), (2, step5, 32)] {
-                    uniforms(sizes);
-                    set_u32(g, sizes, "u_src", src);
-                    dispatch(g, sizes, GROUP);
-                    g.memory_barrier(command);
-                    uniforms(step);
-                    g.dispatch_compute_indirect(4 * args);
-                    g.memory_barrier(storage);
-                }
-                g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
-                self.gl.check("the query dispatches")?;
-                // The one read-back: map the result, copy the header and the hits it counts.
-                g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[RESULT]));
-                let len = 4 * (HEADER + 2 * caps.hits as usize);
-                let p = g.map_buffer_range(
-                    glow::SHADER_STORAGE_BUFFER,
-                    0,
-                    len as i32,
-                    glow::MAP_READ_BIT,
-                );
-                if p.is_null() {
-                    self.gl.check("mapping the query's result")?;
-                    return Err(gl_err("glMapBufferRange returned NULL".into()));
-                }
-                let words = p.cast::<u32>();
-                let n = (*words.add(4)).min(caps.hits) as usize;
-                raw.clear();
-                raw.extend_from_slice(std::slice::from_raw_parts(words, HEADER + 2 * n));
-                g.unmap_buffer(glow::SHADER_STORAGE_BUFFER);
-                self.readbacks += 1;
-                self.gl.check("reading the query's result")?;
-            }
-            if raw[0] != 0 {
-                let id = self
-                    .slots
-                    .iter()
-                    .find(|(_, s)| s.index == raw[0] - 1)
-                    .map_or(0, |(id, _)| *id);
-                return Err(Error::new(
-                    ErrorKind::NonFinite,
-                    format!("mesh {id}: its bound GL buffer holds a NaN or infinite coordinate"),
-                ));
-            }
-            if raw[11] != 0 {
-                return Err(Error::new(
-                    ErrorKind::Unsupported,
-                    "a step of this query asks 2^31 tests or more, more than one dispatch takes",
-                ));
-            }
+            self.size_buffers(gl, plan.l1_cap)?;
+            self.upload_plan(gl, plan);
+            self.dispatch_steps(gl, plan, caps);
+            self.read_back(gl, caps, &mut raw)?;
+            self.check_header(&raw)?;
             // Grow what overflowed; the counters after an overflowed one may be short, so
-            // loop until nothing overflows (each run completes one more step: at most 4).
-            let grow = |need: u32, cap: u32| {
-                if need > cap {
-                    need.saturating_add(need / 2).max(cap.saturating_mul(2))
-                } else {
-                    cap
-                }
-            };
-            let next = Caps {
-                pairs: grow(raw[2], caps.pairs),
-                lists: grow(raw[3], caps.lists),
-                hits: grow(raw[4], caps.hits),
-            };
-            if next.pairs == caps.pairs && next.lists == caps.lists && next.hits == caps.hits {
+            // run again until nothing overflows.
+            let next = grown(&raw, caps);
+            if next == caps {
                 break;
             }
             if runs >= 8 {
@@ -689,53 +813,244 @@ impl GlComputeSelector {
             }
             self.caps = next;
         }
-        let r = &raw[..];
-        stats.tests = [
-            l1_cap as usize,
-            r[1] as usize * ref_leaves as usize,
-            r[5] as usize,
-            r[6] as usize,
-            r[10] as usize,
-        ];
-        stats.hits = [r[1], r[2], r[7], r[8], r[4]].map(|x| x as usize);
-        // Global polygon id -> (mesh position, leaf-ordered polygon).
-        let locate = |gp: u32| {
-            let i = bases.partition_point(|&(b, _)| b <= gp) - 1;
-            let (base, mi) = bases[i];
-            (mi, gp - base)
-        };
-        // Every position on the CPU: each hit is confirmed with the CPU backend's test at
-        // the epsilon asked for (the GPU used at least the minimum depth: it lost nothing).
-        let confirm = refit.is_empty().then_some(q.half_depth);
-        let ref_mesh = q.meshes[0].1;
-        for hit in raw[HEADER..].chunks_exact(2) {
-            let (rm, rp) = locate(hit[0]);
-            let (cm, cp) = locate(hit[1]);
-            debug_assert_eq!(rm, 0);
-            let (other_id, other) = q.meshes[cm as usize];
-            if let Some(h) = confirm {
-                if !confirmed(ref_mesh, rp as usize, other, cp as usize, h) {
-                    continue;
-                }
-            }
-            out.push(Contact {
-                other_mesh: other_id,
-                reference_polygon: ref_mesh.poly_ids[rp as usize],
-                other_polygon: other.poly_ids[cp as usize],
-            });
+        Ok(raw)
+    }
+
+    /// Sizes the query's buffers for the room `self.caps` and `l1` step-1 hits. A size
+    /// the GL cannot take (past `i32::MAX` bytes or the largest storage block) is refused
+    /// before any allocation; an allocation the GL reports failing forgets the sizes and
+    /// the room.
+    fn size_buffers(&mut self, gl: &Gl, l1: u32) -> Result<()> {
+        let c = self.caps;
+        if self.sized.is_some_and(|(sc, sl)| sc == c && sl >= l1) {
+            return Ok(());
         }
-        stats.nanos[0] = t0.elapsed().as_nanos() as u64;
+        let l1 = l1.max(self.sized.map_or(0, |(_, l)| l));
+        let words = [
+            (L1, "step-1 hits", u64::from(l1)),
+            (PAIRS, "leaf pairs", 8 * u64::from(c.pairs)),
+            (LISTS, "step-3/4 lists", u64::from(c.lists)),
+            (RESULT, "contacts", HEADER as u64 + 2 * u64::from(c.hits)),
+        ];
+        let limit = self.max_block.min(i32::MAX as u64);
+        if let Some((_, what, w)) = words.iter().find(|(_, _, w)| 4 * w > limit) {
+            self.caps = Caps::default(); // the next query starts from the usual room
+            return Err(Error::new(
+                ErrorKind::OutOfMemory,
+                format!(
+                    "the query needs a {} MiB buffer for its {what}; this GL's storage blocks \
+                     take at most {} MiB",
+                    (4 * w) >> 20,
+                    limit >> 20
+                ),
+            ));
+        }
+        let g = &gl.gl;
+        let b = self.objects().buffers;
+        self.sized = None;
+        for (k, what, w) in words {
+            let size = gl_bytes(w, 4, what)?;
+            let usage = if k == RESULT {
+                glow::DYNAMIC_READ
+            } else {
+                glow::DYNAMIC_COPY
+            };
+            // SAFETY: as in `rebuild`; the size is checked against the GL's limits above.
+            unsafe { allocate(g, b[k], size, usage) };
+        }
+        if let Err(e) = gl.check_alloc("allocating the query's buffers") {
+            self.caps = Caps::default();
+            return Err(e);
+        }
+        self.sized = Some((c, l1));
+        Ok(())
+    }
+
+    /// Uploads what the plan computed (other meshes, roots, the header) and binds every
+    /// buffer the kernels use (the guard gave the host its bindings back after the last
+    /// call).
+    fn upload_plan(&self, gl: &Gl, plan: &Plan) {
+        let g = &gl.gl;
+        let b = &self.objects().buffers;
+        // SAFETY: as in `rebuild`; the header fits the result buffer (sized for it and the
+        // hits).
+        unsafe {
+            upload(g, b[OTHERS], bytes(&plan.others));
+            upload(g, b[ROOTS], bytes(&plan.roots));
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b[RESULT]));
+            g.buffer_sub_data_u8_slice(glow::SHADER_STORAGE_BUFFER, 0, bytes(&plan.header));
+            for k in [
+                POS, POLYS, BOXES, LEAF_RANGE, LEAF_POLYS, OTHERS, L1, PAIRS, LISTS, RESULT, ROOTS,
+            ] {
+                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(b[k]));
+            }
+            g.bind_buffer(glow::DISPATCH_INDIRECT_BUFFER, Some(b[RESULT]));
+        }
+    }
+
+    /// The kernels, in order: refit of the host-buffer meshes (and their half depth),
+    /// step 1, then for steps 2, 3-4 and 5: one workgroup sizes the step, the step runs
+    /// (dispatched indirectly with those sizes).
+    fn dispatch_steps(&self, gl: &Gl, plan: &Plan, caps: Caps) {
+        let g = &gl.gl;
+        let k = self.objects().query;
+        let storage = glow::SHADER_STORAGE_BARRIER_BIT;
+        let command = storage | glow::COMMAND_BARRIER_BIT;
+        // SAFETY: as in `rebuild`; the programs are ours, their buffers bound by
+        // `upload_plan`, the indirect sizes written by the sizes kernel into the bound
+        // result buffer (workgroup counts of at most 65535 a side).
+        unsafe {
+            if !plan.refit.is_empty() {
+                use_kernel(g, k.refit, plan, caps);
+                for &(first, leaves) in &plan.refit {
+                    set_u32(g, k.refit, "u_first_leaf", first);
+                    dispatch(g, k.refit, leaves);
+                }
+                g.memory_barrier(storage);
+                use_kernel(g, k.sizes, plan, caps);
+                set_u32(g, k.sizes, "u_src", 3); // the half depth from the refitted roots
+                dispatch(g, k.sizes, GROUP);
+                g.memory_barrier(storage);
+            }
+            use_kernel(g, k.step1, plan, caps);
+            dispatch(g, k.step1, plan.l1_cap);
+            g.memory_barrier(storage);
+            for (src, (step, args)) in [k.step2, k.step34, k.step5]
+                .into_iter()
+                .zip(H_ARGS)
+                .enumerate()
+            {
+                use_kernel(g, k.sizes, plan, caps);
+                set_u32(g, k.sizes, "u_src", src as u32);
+                dispatch(g, k.sizes, GROUP);
+                g.memory_barrier(command);
+                use_kernel(g, step, plan, caps);
+                g.dispatch_compute_indirect(4 * args as i32);
+                g.memory_barrier(storage);
+            }
+            g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+        }
+    }
+
+    /// The one read-back: maps the result, copies the header and the hits it counts into
+    /// `raw`.
+    fn read_back(&mut self, gl: &Gl, caps: Caps, raw: &mut Vec<u32>) -> Result<()> {
+        gl.check("the query dispatches")?;
+        let len = gl_bytes(HEADER as u64 + 2 * u64::from(caps.hits), 4, "contacts")?;
+        let g = &gl.gl;
+        let b = self.objects().buffers[RESULT];
+        // SAFETY: as in `rebuild`; the result buffer holds `len` bytes (sized for `caps`);
+        // the mapping is read only within them (the hit count is clamped to the room) and
+        // unmapped before anything else touches the buffer.
+        unsafe {
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+            let p = g.map_buffer_range(glow::SHADER_STORAGE_BUFFER, 0, len, glow::MAP_READ_BIT);
+            if p.is_null() {
+                gl.check("mapping the query's result")?;
+                return Err(gl_err("glMapBufferRange returned NULL".into()));
+            }
+            let words = p.cast::<u32>();
+            let n = (*words.add(H_HITS)).min(caps.hits) as usize;
+            raw.clear();
+            raw.extend_from_slice(std::slice::from_raw_parts(words, HEADER + 2 * n));
+            g.unmap_buffer(glow::SHADER_STORAGE_BUFFER);
+        }
+        self.readbacks += 1;
+        gl.check("reading the query's result")
+    }
+
+    /// The header's failures: a NaN or infinity in a host buffer (naming the mesh), or a
+    /// step of 2^31 tests or more.
+    fn check_header(&self, raw: &[u32]) -> Result<()> {
+        if raw[H_NONFINITE] != 0 {
+            let id = self
+                .slots
+                .iter()
+                .find(|(_, s)| s.index == raw[H_NONFINITE] - 1)
+                .map_or(0, |(id, _)| *id);
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                format!("mesh {id}: its bound GL buffer holds a NaN or infinite coordinate"),
+            ));
+        }
+        if raw[H_TOO_MANY] != 0 {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                "a step of this query asks 2^31 tests or more, more than one dispatch takes",
+            ));
+        }
         Ok(())
     }
 }
 
-/// A float's key whose unsigned order is the float order (as `key` in query.glsl).
-fn order_key(f: f32) -> u32 {
-    let b = f.to_bits();
-    if b & 0x8000_0000 != 0 {
-        !b
-    } else {
-        b | 0x8000_0000
+/// Makes `p` the program in use and sets the uniforms every query kernel shares.
+///
+/// # Safety
+/// `g` was loaded for the context current on this thread; `p` is one of our kernels.
+unsafe fn use_kernel(g: &glow::Context, p: glow::NativeProgram, plan: &Plan, caps: Caps) {
+    // SAFETY: the caller's contract.
+    unsafe {
+        g.use_program(Some(p));
+        for (name, v) in [
+            ("u_ref_mesh", plan.ref_mesh),
+            ("u_ref_leaf_base", plan.ref_base),
+            ("u_ref_leaves", plan.ref_leaves),
+            ("u_others", plan.n_others),
+            ("u_l1_cap", plan.l1_cap),
+            ("u_pair_cap", caps.pairs),
+            ("u_list_cap", caps.lists),
+            ("u_hit_cap", caps.hits),
+        ] {
+            set_u32(g, p, name, v);
+        }
+        set_f32(g, p, "u_pad_rel", PAD_REL);
+        set_f32(g, p, "u_h_base", plan.h_base);
+    }
+}
+
+/// The room the next run needs: each counter that passed its room grows to fit it.
+fn grown(raw: &[u32], caps: Caps) -> Caps {
+    let grow = |need: u32, cap: u32| {
+        if need > cap {
+            need.saturating_add(need / 2).max(cap.saturating_mul(2))
+        } else {
+            cap
+        }
+    };
+    Caps {
+        pairs: grow(raw[H_PAIRS], caps.pairs),
+        lists: grow(raw[H_LIST], caps.lists),
+        hits: grow(raw[H_HITS], caps.hits),
+    }
+}
+
+/// The step-5 hits (global reference polygon, global other polygon) as contacts. When
+/// every position is on the CPU, each hit is confirmed with the CPU backend's test at the
+/// epsilon asked for (the GPU used at least the minimum depth: it lost nothing).
+fn contacts(q: &QueryMeshes<'_>, plan: &Plan, hits: &[u32], out: &mut Vec<Contact>) {
+    // Global polygon id -> (mesh position, leaf-ordered polygon).
+    let locate = |gp: u32| {
+        let i = plan.bases.partition_point(|&(b, _)| b <= gp) - 1;
+        let (base, mi) = plan.bases[i];
+        (mi, gp - base)
+    };
+    let confirm = plan.refit.is_empty().then_some(q.half_depth);
+    let ref_mesh = q.meshes[0].1;
+    for hit in hits.chunks_exact(2) {
+        let (rm, rp) = locate(hit[0]);
+        let (cm, cp) = locate(hit[1]);
+        debug_assert_eq!(rm, 0);
+        let (other_id, other) = q.meshes[cm as usize];
+        if let Some(h) = confirm {
+            if !confirmed(ref_mesh, rp as usize, other, cp as usize, h) {
+                continue;
+            }
+        }
+        out.push(Contact {
+            other_mesh: other_id,
+            reference_polygon: ref_mesh.poly_ids[rp as usize],
+            other_polygon: other.poly_ids[cp as usize],
+        });
     }
 }
 
@@ -749,13 +1064,6 @@ fn confirmed(vm: &Mesh, v: usize, cm: &Mesh, c: usize, h: f64) -> bool {
     polygon_meets(&vt, nv, &ct, nc, h)
 }
 
-fn too_big() -> Error {
-    Error::new(
-        ErrorKind::Unsupported,
-        "the query needs more GPU buffer room than 32-bit counts can address",
-    )
-}
-
 impl WholeQuery for GlComputeSelector {
     fn run_query(
         &mut self,
@@ -763,13 +1071,7 @@ impl WholeQuery for GlComputeSelector {
         out: &mut Vec<Contact>,
         stats: &mut QueryStats,
     ) -> Result<()> {
-        let gl: *const Gl = &self.gl;
-        // SAFETY: as in prepare.
-        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
-        let r = self.query_inner(q, out, stats);
-        let done = guard.finish();
-        r?;
-        done
+        self.guarded(|gl, st| st.query(gl, q, out, stats))
     }
 }
 
@@ -779,13 +1081,7 @@ impl Selector for GlComputeSelector {
     }
 
     fn prepare(&mut self, meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
-        let gl: *const Gl = &self.gl;
-        // SAFETY: the guard only reads `gl`, which prepare_inner never moves or replaces.
-        let guard = StateGuard::enter(unsafe { &*gl }, uses())?;
-        let r = self.prepare_inner(meshes);
-        let done = guard.finish();
-        r?;
-        done
+        self.guarded(|gl, st| st.prepare(gl, meshes))
     }
 
     fn engine(&mut self) -> Engine<'_> {
@@ -793,22 +1089,22 @@ impl Selector for GlComputeSelector {
     }
 
     fn take_readbacks(&mut self) -> u32 {
-        std::mem::take(&mut self.readbacks)
+        std::mem::take(&mut self.st.readbacks)
     }
 
     fn mesh_updated(&mut self, id: u32) {
-        self.bound.remove(&id);
-        if let Some(s) = self.slots.get_mut(&id) {
+        self.st.bound.remove(&id);
+        if let Some(s) = self.st.slots.get_mut(&id) {
             s.uploaded = None;
         }
     }
 
     fn mesh_destroyed(&mut self, id: u32) {
-        self.bound.remove(&id);
+        self.st.bound.remove(&id);
     }
 
     fn gl_bound(&self, id: u32) -> bool {
-        self.bound.contains_key(&id)
+        self.st.bound.contains_key(&id)
     }
 
     fn bind_gl_buffer(
@@ -819,59 +1115,83 @@ impl Selector for GlComputeSelector {
         offset: usize,
         stride: usize,
     ) -> Result<()> {
-        let stride = if stride == 0 { 12 } else { stride };
-        if stride < 12 || stride % 4 != 0 || offset % 4 != 0 {
+        let stride = Positions::stride_or_packed(stride);
+        if stride < Positions::PACKED_STRIDE || stride % 4 != 0 || offset % 4 != 0 {
             return Err(Error::invalid(format!(
                 "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
             )));
         }
-        let need = crate::mesh::Positions::byte_len(mesh.vertex_count(), stride)
+        let need = Positions::byte_len(mesh.vertex_count(), stride)
             .and_then(|n| n.checked_add(offset))
             .ok_or_else(|| Error::invalid("offset + vertex_count * stride overflows"))?;
-        let guard = StateGuard::enter(&self.gl, uses())?;
-        let g = &self.gl.gl;
-        let size = unsafe {
-            if buf == 0 || !g.is_buffer(glow::NativeBuffer(std::num::NonZeroU32::new(buf).unwrap()))
-            {
-                None
-            } else {
-                g.bind_buffer(glow::COPY_READ_BUFFER, buffer(buf));
-                Some(g.get_buffer_parameter_i32(glow::COPY_READ_BUFFER, glow::BUFFER_SIZE))
-            }
+        // gather.glsl indexes the host's buffer in 32-bit float units.
+        let floats = |n: usize| u32::try_from(n / 4).ok();
+        let (Some(_), Some(offset_floats), Some(stride_floats)) =
+            (floats(need), floats(offset), floats(stride))
+        else {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "gl_buffer {buf}: {need} bytes at offset {offset}, stride {stride} reach past \
+                     the 16 GiB the shaders address with 32-bit indices"
+                ),
+            ));
         };
-        guard.finish()?;
+        let size = self.guarded(|gl, _| {
+            let g = &gl.gl;
+            // SAFETY: the context this `gl` was loaded for is current (every GL-backed
+            // call's contract); glIsBuffer takes any name, and the buffer is bound (to a
+            // target the guard restores) only when it is one.
+            unsafe {
+                let name = buffer(buf);
+                if name.is_none_or(|b| !g.is_buffer(b)) {
+                    return Ok(None);
+                }
+                g.bind_buffer(glow::COPY_READ_BUFFER, name);
+                Ok(Some(gl.buffer_size(glow::COPY_READ_BUFFER)))
+            }
+        })?;
         match size {
             None => Err(Error::invalid(format!("gl_buffer {buf} is not a buffer object of this context"))),
-            Some(s) if (s as usize) < need => Err(Error::invalid(format!(
+            Some(s) if s < need as u64 => Err(Error::invalid(format!(
                 "gl_buffer {buf} holds {s} bytes; {need} are needed for {} vertices at offset {offset}, stride {stride}",
                 mesh.vertex_count()
             ))),
             Some(_) => {
-                self.bound.insert(id, Bound { buffer: buf, offset, stride });
+                self.st.bound.insert(
+                    id,
+                    Bound {
+                        buffer: buf,
+                        offset: offset_floats,
+                        stride: stride_floats,
+                    },
+                );
                 Ok(())
             }
         }
     }
 
     fn release(&mut self) {
-        if let Some(o) = self.obj.take() {
-            // Our objects are bound nowhere between calls (the guard gave every binding
-            // back), so deleting them changes no host state: done even when the guard
-            // refuses (say, the host's transform feedback is running), rather than leaked.
-            let guard = StateGuard::enter(&self.gl, uses()).ok();
-            unsafe {
-                let g = &self.gl.gl;
-                g.delete_program(o.gather);
-                for p in o.query {
-                    g.delete_program(p);
-                }
-                for b in o.buffers {
-                    g.delete_buffer(b);
-                }
+        let Some(o) = self.st.obj.take() else {
+            return;
+        };
+        // Our objects are bound nowhere between calls (the guard gave every binding back),
+        // so deleting them changes no host state: done even when the guard refuses (say,
+        // the host's transform feedback is running), rather than leaked.
+        let guard = StateGuard::enter(&self.gl, USES).ok();
+        let g = &self.gl.gl;
+        // SAFETY: the scene's context is current (glcol_scene_destroy's contract); the
+        // objects are ours, made by `create_objects` and deleted once (`obj` was taken).
+        unsafe {
+            for p in std::iter::once(o.gather).chain(o.query.all()) {
+                g.delete_program(p);
             }
-            if let Some(guard) = guard {
-                let _ = guard.finish();
+            for b in o.buffers {
+                g.delete_buffer(b);
             }
+        }
+        if let Some(guard) = guard {
+            let _ = guard.finish();
         }
     }
 }
