@@ -116,6 +116,25 @@ impl Cell {
         }
     }
 
+    /// The origin of the frame the planes are given in (the triangle's first vertex).
+    pub fn origin(&self) -> P3 {
+        self.origin
+    }
+
+    /// The planes `[nx, ny, nz, d]`, unit normals pointing inwards (`n . (x - origin) + d >=
+    /// 0` inside). A prism ([`Cell::is_prism`]): its two caps, normal `n` then `-n` (`d` the
+    /// half depth), then its three edges. A degenerate triangle's box: three pairs of
+    /// opposite faces, `a` then `-a` for each of three orthonormal axes `a`. A GL viewing
+    /// volume is built from these (the GL_SELECT backend), so both test the same volume.
+    pub fn planes(&self) -> &[[f64; 4]] {
+        &self.planes[..self.count]
+    }
+
+    /// The prism over a triangle (5 planes), rather than the box of a degenerate one (6).
+    pub fn is_prism(&self) -> bool {
+        self.count == 5
+    }
+
     fn push(&mut self, n: P3, d: f64) {
         self.planes[self.count] = [n[0], n[1], n[2], d];
         self.count += 1;
@@ -201,6 +220,31 @@ mod tests {
         // |n| = sqrt(3): the needle starts 2.5e-4 * sqrt(3) = 4.3e-4 above the plane.
         assert!(c.meets_triangle(&needle(2.5e-4, 1.0)));
         assert!(!c.meets_triangle(&needle(3.0e-4, 1.0)));
+    }
+
+    #[test]
+    fn planes_are_caps_and_edges_or_opposite_pairs() {
+        let unit =
+            |p: &[f64; 4]| (dot(&[p[0], p[1], p[2]], &[p[0], p[1], p[2]]) - 1.0).abs() < 1e-12;
+        let c = Cell::of_triangle(&T, 0.01);
+        assert!(c.is_prism());
+        let p = c.planes();
+        assert_eq!(p.len(), 5);
+        assert_eq!(p[0], [0.0, 0.0, 1.0, 0.01]);
+        assert_eq!(p[1], [-0.0, -0.0, -1.0, 0.01]);
+        assert!(p.iter().all(unit));
+        let seg = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+        let d = Cell::of_triangle(&seg, 0.1);
+        assert!(!d.is_prism());
+        let p = d.planes();
+        assert_eq!(p.len(), 6);
+        for k in 0..3 {
+            let (a, b) = (p[2 * k], p[2 * k + 1]);
+            assert!(unit(&a));
+            assert_eq!([a[0], a[1], a[2]], [-b[0], -b[1], -b[2]]);
+            assert!(-a[3] <= b[3], "an empty slab"); // a . x in [-a[3], b[3]]
+        }
+        assert_eq!(d.origin(), seg[0]);
     }
 
     #[test]
