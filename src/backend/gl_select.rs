@@ -1,10 +1,10 @@
 //! The GL_SELECT backend: the paper as published. Every viewing volume is an orthographic
 //! camera in `glRenderMode(GL_SELECT)`; candidates are drawn with one name each (boxes as
 //! triangle strips, polygons as triangles) and the hit records say which were drawn inside.
-//! Step 5 uses the polygon viewing volume of section 2.3: an orthographic box around the
-//! polygon's 2D bounding box in its own plane, depth `[-h, h]` along its normal, and
-//! `glClipPlane` for the slanted edges (a quad is its two triangles; a degenerate polygon is
-//! the thin box of `geom::volume`).
+//! Step 5 uses the polygon viewing volume of section 2.3 as `geom::volume` builds it: an
+//! orthographic box around the polygon's 2D bounding box in its own plane, depth `[-h, h]`
+//! along its normal, and `glClipPlane` for the slanted edges (a quad is its two triangles; a
+//! degenerate polygon is the volume's thin box).
 //!
 //! Precision. Coordinates reach the GL relative to a local origin chosen in `f64` per
 //! volume (the volume box's centre, or the reference polygon's first vertex), so float clip
@@ -20,29 +20,32 @@
 //! State: everything goes through [`StateGuard`]; our own 1×1 framebuffer is bound while
 //! selecting (selection reports nothing without a complete framebuffer) and deleted after.
 
-use glow::HasContext;
+#![deny(unsafe_op_in_unsafe_fn)]
 
-use super::{Backend, Batch, Engine, Hit, QueryMeshes, Selector, Step, StepQuery};
+use glow::HasContext;
+use nalgebra::{Matrix4, Vector3};
+
+use super::{Backend, Batch, Engine, Group, Hit, Prim, QueryMeshes, Selector, Step, StepQuery};
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::polygon::polygon_meets;
 use crate::geom::predicates::collinear;
-use crate::geom::{Aabb, P3};
+use crate::geom::volume::Cell;
+use crate::geom::{widen, Aabb, P3};
+use crate::gpu::compat;
 use crate::gpu::state::{clip_planes, StateGuard, Uses};
-use crate::gpu::{unavailable, Gl};
+use crate::gpu::{gl_err, unavailable, Gl};
 
 /// Volume padding relative to the local size of a volume and its candidates: 2^-16, about
 /// 256 float ulps, well above the rounding of the transform and of clipping.
 pub const PAD_REL: f64 = 1.0 / 65536.0;
 
-const SELECT: u32 = 0x1C02;
-const RENDER: u32 = 0x1C00;
-const MODELVIEW: u32 = 0x1700;
-const PROJECTION: u32 = 0x1701;
-const NAME_STACK_DEPTH: u32 = 0x0D70;
-const TRIANGLES: u32 = 0x0004;
-const TRIANGLE_STRIP: u32 = 0x0005;
-const LINE_STRIP: u32 = 0x0003;
-const POINTS: u32 = 0x0000;
+/// The state the guard saves around our work: the common and the fixed-function state.
+const USES: Uses = Uses {
+    fixed_function: true,
+    indexed_bindings: 0,
+};
+
+type V3 = Vector3<f64>;
 
 /// The GL_SELECT backend.
 pub struct GlSelectSelector {
@@ -50,18 +53,24 @@ pub struct GlSelectSelector {
     s: Scratch,
 }
 
+/// A candidate polygon: its triangles (`tris[..n]`) and which of them are degenerate.
+type Candidate = ([[P3; 3]; 2], usize, [bool; 2]);
+
 /// Buffers reused from call to call.
 #[derive(Default)]
 struct Scratch {
     select_buf: Vec<u32>,
+    /// The group's candidates' boxes (the boxes themselves in steps 1-2).
     boxes: Vec<Aabb>,
-    tris: Vec<([[P3; 3]; 2], usize, [bool; 2])>,
+    /// The group's candidate polygons (steps 3-5).
+    tris: Vec<Candidate>,
     /// glRenderMode(GL_RENDER) calls (each waits for the GL) since `take_readbacks`.
     readbacks: u32,
 }
 
 impl GlSelectSelector {
-    /// Needs fixed-function entry points: a compatibility-profile context or GL <= 3.0.
+    /// Needs fixed-function entry points: a compatibility-profile context or GL <= 3.0,
+    /// with framebuffer objects (GL 3.0) and 3 user clip planes.
     pub fn new(gl: Gl) -> Result<GlSelectSelector> {
         if !gl.info.fixed_function {
             return Err(unavailable(format!(
@@ -90,10 +99,6 @@ impl GlSelectSelector {
             s: Scratch::default(),
         })
     }
-
-    pub fn gl(&self) -> &Gl {
-        &self.gl
-    }
 }
 
 /// A volume as the GL sees it: projection (column-major, f64) with the modelview the
@@ -101,160 +106,100 @@ impl GlSelectSelector {
 struct Volume {
     origin: P3,
     projection: [f64; 16],
-    planes: Vec<[f64; 4]>,
+    planes: [[f64; 4]; 3],
+    n_planes: usize,
 }
 
-/// Orthographic projection of the box `[lo, hi]` of the frame with orthonormal rows `r`
-/// (local coordinates -> clip cube).
-fn ortho(r: [P3; 3], lo: P3, hi: P3) -> [f64; 16] {
-    let mut m = [0.0; 16];
-    for (row, axis) in r.iter().enumerate() {
-        let s = 2.0 / (hi[row] - lo[row]);
-        let t = -(hi[row] + lo[row]) / (hi[row] - lo[row]);
-        for (col, a) in axis.iter().enumerate() {
-            m[col * 4 + row] = s * a;
-        }
-        m[12 + row] = t;
+impl Volume {
+    fn planes(&self) -> &[[f64; 4]] {
+        &self.planes[..self.n_planes]
     }
-    m[15] = 1.0;
-    m
 }
 
-fn sub(a: &P3, b: &P3) -> P3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// Orthographic projection of the box `[lo, hi]` of the frame with orthonormal `axes`
+/// (local coordinates -> clip cube).
+fn ortho(axes: [V3; 3], lo: V3, hi: V3) -> [f64; 16] {
+    let mut m = Matrix4::identity();
+    for (row, a) in axes.iter().enumerate() {
+        let s = 2.0 / (hi[row] - lo[row]);
+        for col in 0..3 {
+            m[(row, col)] = s * a[col];
+        }
+        m[(row, 3)] = -(hi[row] + lo[row]) / (hi[row] - lo[row]);
+    }
+    let mut out = [0.0; 16];
+    out.copy_from_slice(m.as_slice()); // column-major, as glLoadMatrixd takes it
+    out
 }
-fn dot(a: &P3, b: &P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: &P3, b: &P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn unit(a: &P3) -> P3 {
-    let l = dot(a, a).sqrt();
-    [a[0] / l, a[1] / l, a[2] / l]
-}
-fn widen(p: &[f32; 3]) -> P3 {
-    [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])]
-}
-
-const AXES: [P3; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 /// A box volume grown by `h + pad` on every side, around its centre.
 fn box_volume(b: &Aabb, h: f64, reach: f64) -> Volume {
-    let lo = widen(&b.min);
-    let hi = widen(&b.max);
-    let origin = [0, 1, 2].map(|k| (lo[k] + hi[k]) / 2.0);
-    let half = [0, 1, 2].map(|k| (hi[k] - lo[k]) / 2.0);
-    let size = half.iter().fold(reach, |a, &b| a.max(b));
-    let pad = h + PAD_REL * size + f64::MIN_POSITIVE;
+    let (lo, hi) = (V3::from(widen(&b.min)), V3::from(widen(&b.max)));
+    let origin = (lo + hi) / 2.0;
+    let half = (hi - lo) / 2.0;
+    let pad = h + PAD_REL * half.max().max(reach) + f64::MIN_POSITIVE;
+    let grown = half.add_scalar(pad);
     Volume {
-        origin,
-        projection: ortho(
-            AXES,
-            [0, 1, 2].map(|k| -half[k] - pad),
-            [0, 1, 2].map(|k| half[k] + pad),
-        ),
-        planes: Vec::new(),
+        origin: origin.into(),
+        projection: ortho([V3::x(), V3::y(), V3::z()], -grown, grown),
+        planes: [[0.0; 4]; 3],
+        n_planes: 0,
     }
 }
 
-/// The section 2.3 volume of triangle `t`, half-depth `h`, padded for a local size `reach`.
+/// The section 2.3 volume of triangle `t` with half-depth `h`, as `geom::volume` builds it
+/// ([`Cell`]: the prism over the triangle, or the thin box around a degenerate one), padded
+/// for a local size `reach`.
 fn triangle_volume(t: &[P3; 3], h: f64, reach: f64) -> Volume {
-    let origin = t[0];
-    let v = [[0.0; 3], sub(&t[1], &origin), sub(&t[2], &origin)];
-    let size = v
-        .iter()
-        .flat_map(|p| p.iter())
-        .fold(reach, |a, &b| a.max(b.abs()));
+    let cell = Cell::of_triangle(t, h);
+    let o = V3::from(cell.origin());
+    let v = t.map(|p| V3::from(p) - o);
+    let size = v.iter().map(|p| p.amax()).fold(reach, f64::max);
     let pad = PAD_REL * size + f64::MIN_POSITIVE;
-    if collinear(&t[0], &t[1], &t[2]) {
-        return degenerate_volume(origin, &v, h, pad);
-    }
-    let n = unit(&cross(&v[1], &v[2]));
-    let u = unit(&v[1]);
-    let w = cross(&n, &u);
-    // 2D bounding box in the plane (u, w), depth along n.
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &v {
-        for (k, a) in [u, w].iter().enumerate() {
-            let c = dot(a, p);
-            lo[k] = lo[k].min(c);
-            hi[k] = hi[k].max(c);
-        }
-    }
-    lo = [lo[0] - pad, lo[1] - pad, -h - pad];
-    hi = [hi[0] + pad, hi[1] + pad, h + pad];
-    // Clip planes along the edges (n x e points inwards), moved out by pad.
-    let planes = (0..3)
-        .map(|i| {
-            let p = v[i];
-            let e = sub(&v[(i + 1) % 3], &p);
-            let m = unit(&cross(&n, &e));
-            [m[0], m[1], m[2], -dot(&m, &p) + pad]
-        })
-        .collect();
-    Volume {
-        origin,
-        projection: ortho([u, w, n], lo, hi),
-        planes,
-    }
-}
-
-/// The thin box around a segment or point (as `geom::volume` builds it), padded.
-fn degenerate_volume(origin: P3, v: &[P3; 3], h: f64, pad: f64) -> Volume {
-    let (mut p, mut q, mut best) = (0, 0, 0.0);
-    for i in 0..3 {
-        for j in i + 1..3 {
-            let d = sub(&v[j], &v[i]);
-            if dot(&d, &d) > best {
-                (p, q, best) = (i, j, dot(&d, &d));
-            }
-        }
-    }
-    let (u, r) = if best > 0.0 {
-        (unit(&sub(&v[q], &v[p])), h / 2f64.sqrt())
-    } else {
-        ([1.0, 0.0, 0.0], h / 3f64.sqrt())
+    let p = cell.planes();
+    let normal = |k: usize| V3::new(p[k][0], p[k][1], p[k][2]);
+    let mut volume = Volume {
+        origin: cell.origin(),
+        projection: [0.0; 16],
+        planes: [[0.0; 4]; 3],
+        n_planes: 0,
     };
-    let k = if u[0].abs() <= u[1].abs() && u[0].abs() <= u[2].abs() {
-        AXES[0]
-    } else if u[1].abs() <= u[2].abs() {
-        AXES[1]
+    if cell.is_prism() {
+        // Caps (n, -n) give the depth; the 2D bounding box in the plane (u, w) the sides;
+        // the edges become clip planes, moved out by pad.
+        let n = normal(0);
+        let u = v[1].normalize();
+        let w = n.cross(&u);
+        let (mut lo, mut hi) = (V3::repeat(f64::INFINITY), V3::repeat(f64::NEG_INFINITY));
+        for q in &v {
+            let c = V3::new(u.dot(q), w.dot(q), 0.0);
+            lo = lo.inf(&c);
+            hi = hi.sup(&c);
+        }
+        lo.z = -p[0][3];
+        hi.z = p[1][3];
+        volume.projection = ortho([u, w, n], lo.add_scalar(-pad), hi.add_scalar(pad));
+        for (dst, e) in volume.planes.iter_mut().zip(&p[2..5]) {
+            *dst = [e[0], e[1], e[2], e[3] + pad];
+        }
+        volume.n_planes = 3;
     } else {
-        AXES[2]
-    };
-    let w1 = unit(&cross(&u, &k));
-    let w2 = cross(&u, &w1);
-    let along = if best > 0.0 { 0.0 } else { r };
-    let c = v[p];
-    let lo = [
-        dot(&u, &v[p]) - along - pad,
-        dot(&w1, &c) - r - pad,
-        dot(&w2, &c) - r - pad,
-    ];
-    let hi = [
-        dot(&u, &v[q]) + along + pad,
-        dot(&w1, &c) + r + pad,
-        dot(&w2, &c) + r + pad,
-    ];
-    Volume {
-        origin,
-        projection: ortho([u, w1, w2], lo, hi),
-        planes: Vec::new(),
+        // Three pairs of opposite faces: axis a, then -a (a . x in [-d_a, d_-a]).
+        let axes = [normal(0), normal(2), normal(4)];
+        let lo = V3::from_fn(|k, _| -p[2 * k][3]);
+        let hi = V3::from_fn(|k, _| p[2 * k + 1][3]);
+        volume.projection = ortho(axes, lo.add_scalar(-pad), hi.add_scalar(pad));
     }
+    volume
 }
 
 /// Largest coordinate distance from `o` of a set of boxes (the local size of a group).
 fn reach(o: &P3, boxes: &[Aabb]) -> f64 {
+    let o = V3::from(*o);
     boxes.iter().fold(0.0, |a, b| {
-        (0..3).fold(a, |a, k| {
-            a.max((f64::from(b.min[k]) - o[k]).abs())
-                .max((f64::from(b.max[k]) - o[k]).abs())
-        })
+        let lo = (V3::from(widen(&b.min)) - o).amax();
+        let hi = (V3::from(widen(&b.max)) - o).amax();
+        a.max(lo).max(hi)
     })
 }
 
@@ -274,24 +219,43 @@ impl Selector for GlSelectSelector {
 
 impl StepQuery for GlSelectSelector {
     fn select(&mut self, q: &QueryMeshes<'_>, batch: &Batch, hits: &mut Vec<Hit>) -> Result<()> {
-        let guard = StateGuard::enter(
-            &self.gl,
-            Uses {
-                fixed_function: true,
-                indexed_bindings: 0,
-            },
-        )?;
-        let h = q.gl_half_depth();
-        let sc = &mut self.s;
         let gl = &self.gl;
-        let g = &self.gl.gl;
-        let f = self.gl.ff();
-        let n_planes = clip_planes(&self.gl);
-        let (fbo, rbo) = unsafe {
+        let guard = StateGuard::enter(gl, USES)?;
+        let res = Target::create(gl).and_then(|target| {
+            let r = select_batch(gl, &mut self.s, q, batch, hits);
+            target.delete(gl);
+            r
+        });
+        let done = guard.finish();
+        res?;
+        done
+    }
+}
+
+/// Our 1×1 framebuffer: selection reports nothing without a complete one.
+struct Target {
+    fbo: glow::NativeFramebuffer,
+    rbo: glow::NativeRenderbuffer,
+}
+
+impl Target {
+    /// Makes and binds it (the guard gives the host's bindings back).
+    fn create(gl: &Gl) -> Result<Target> {
+        let g = &gl.gl;
+        // SAFETY: `gl` is loaded for the context current on this thread (every GL-backed
+        // call's contract); the objects are ours, made here, and deleted on every path.
+        unsafe {
             let rbo = g.create_renderbuffer().map_err(gl_err)?;
+            let fbo = match g.create_framebuffer() {
+                Ok(f) => f,
+                Err(e) => {
+                    g.delete_renderbuffer(rbo);
+                    return Err(gl_err(e));
+                }
+            };
+            let target = Target { fbo, rbo };
             g.bind_renderbuffer(glow::RENDERBUFFER, Some(rbo));
             g.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, 1, 1);
-            let fbo = g.create_framebuffer().map_err(gl_err)?;
             g.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
             g.framebuffer_renderbuffer(
                 glow::FRAMEBUFFER,
@@ -299,263 +263,332 @@ impl StepQuery for GlSelectSelector {
                 glow::RENDERBUFFER,
                 Some(rbo),
             );
-            (fbo, rbo)
-        };
-        let res = (|| -> Result<()> {
-            unsafe {
-                let status = g.check_framebuffer_status(glow::FRAMEBUFFER);
-                if status != glow::FRAMEBUFFER_COMPLETE {
-                    return Err(Error::new(
-                        ErrorKind::GlError,
-                        format!("our 1x1 selection framebuffer is incomplete (0x{status:x})"),
-                    ));
-                }
-                g.viewport(0, 0, 1, 1);
-                for cap in [
-                    glow::CULL_FACE,
-                    glow::DEPTH_CLAMP,
-                    glow::RASTERIZER_DISCARD,
-                    glow::PRIMITIVE_RESTART,
-                ] {
-                    g.disable(cap);
-                }
-                for k in 0..n_planes {
-                    g.disable(glow::CLIP_DISTANCE0 + k);
-                }
-                g.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
-                g.use_program(None);
-                if gl.info.program_pipelines {
-                    f.BindProgramPipeline(0); // the guard gives the host's back
-                }
-                g.bind_vertex_array(None);
-                f.MatrixMode(MODELVIEW);
-                f.LoadIdentity();
+            let status = g.check_framebuffer_status(glow::FRAMEBUFFER);
+            if status != glow::FRAMEBUFFER_COMPLETE {
+                target.delete(gl);
+                return Err(Error::new(
+                    ErrorKind::GlError,
+                    format!("our 1x1 selection framebuffer is incomplete (0x{status:x})"),
+                ));
             }
-            gl.check("setting up selection")?;
-            let mut depth = 0;
-            unsafe { f.GetIntegerv(NAME_STACK_DEPTH, &mut depth) };
-            let record = 3 + depth.max(0) as usize + 1;
-            for grp in &batch.groups {
-                let cands =
-                    &batch.candidates[grp.candidates.start as usize..grp.candidates.end as usize];
-                sc.boxes.clear();
-                match batch.step {
-                    Step::BoxesInBoxes => sc.boxes.extend(cands.iter().map(|&c| q.boxed(c))),
-                    _ => sc
-                        .boxes
-                        .extend(cands.iter().map(|&c| q.mesh(c).poly_box(c.index as usize))),
-                }
-                if batch.step != Step::BoxesInBoxes {
-                    sc.tris.clear();
-                    sc.tris.extend(cands.iter().map(|&c| {
-                        let mut t = [[[0.0; 3]; 3]; 2];
-                        let n = q.mesh(c).triangles(c.index as usize, &mut t);
-                        let flat = [0, 1].map(|i| i < n && collinear(&t[i][0], &t[i][1], &t[i][2]));
-                        (t, n, flat)
-                    }));
-                }
-                let need = cands.len() * record + 16;
-                if sc.select_buf.len() < need {
-                    sc.select_buf = vec![0; need];
-                }
-                unsafe {
-                    f.SelectBuffer(sc.select_buf.len() as i32, sc.select_buf.as_mut_ptr());
-                }
-                for vi in grp.volumes.clone() {
-                    let v = batch.volumes[vi as usize];
-                    let first = hits.len();
-                    match batch.step {
-                        Step::BoxesInBoxes | Step::PolygonsInBoxes => {
-                            let vb = q.boxed(v);
-                            let centre = [0, 1, 2]
-                                .map(|k| (f64::from(vb.min[k]) + f64::from(vb.max[k])) / 2.0);
-                            let vol = box_volume(&vb, h, reach(&centre, &sc.boxes));
-                            run_volume(
-                                gl,
-                                sc,
-                                &vol,
-                                batch.step,
-                                record,
-                                vi,
-                                grp.candidates.start,
-                                hits,
-                            )?;
-                        }
-                        Step::PolygonsInPolygons => {
-                            let m = q.mesh(v);
-                            let mut vt = [[[0.0; 3]; 3]; 2];
-                            let nv = m.triangles(v.index as usize, &mut vt);
-                            for t in &vt[..nv] {
-                                let vol = triangle_volume(t, h, reach(&t[0], &sc.boxes));
-                                run_volume(
-                                    gl,
-                                    sc,
-                                    &vol,
-                                    batch.step,
-                                    record,
-                                    vi,
-                                    grp.candidates.start,
-                                    hits,
-                                )?;
-                            }
-                            // Quads: a candidate may be in both triangles' volumes.
-                            hits[first..].sort_unstable();
-                            let mut w = first;
-                            for r in first..hits.len() {
-                                if r == first || hits[r] != hits[w - 1] {
-                                    hits[w] = hits[r];
-                                    w += 1;
-                                }
-                            }
-                            hits.truncate(w);
-                            // Confirm on the CPU with the CPU backend's test at the epsilon
-                            // asked for (the GL used at least the minimum depth, so it lost
-                            // nothing): exact at epsilon 0.
-                            let tris = &sc.tris;
-                            let base = grp.candidates.start;
-                            let mut w = first;
-                            for r in first..hits.len() {
-                                let hit = hits[r];
-                                let (ct, nc, _) = &tris[(hit.candidate - base) as usize];
-                                if polygon_meets(&vt, nv, ct, *nc, q.half_depth) {
-                                    hits[w] = hit;
-                                    w += 1;
-                                }
-                            }
-                            hits.truncate(w);
-                        }
-                    }
-                }
-            }
-            gl.check("selection")
-        })();
-        unsafe {
-            g.delete_framebuffer(fbo);
-            g.delete_renderbuffer(rbo);
+            Ok(target)
         }
-        let done = guard.finish();
-        res?;
-        done
+    }
+
+    fn delete(self, gl: &Gl) {
+        // SAFETY: as in `create`; ours, deleted once (`self` is consumed).
+        unsafe {
+            gl.gl.delete_framebuffer(self.fbo);
+            gl.gl.delete_renderbuffer(self.rbo);
+        }
     }
 }
 
-fn gl_err(e: String) -> Error {
-    Error::new(ErrorKind::GlError, e)
+/// Every state selection relies on, set each call: a 1×1 viewport, no culling, clamping,
+/// discard, restart or clip planes, filled polygons, no program, pipeline or VAO, and an
+/// identity modelview.
+fn set_up_selection(gl: &Gl) -> Result<()> {
+    let (g, f) = (&gl.gl, gl.ff());
+    // SAFETY: as in `Target::create`; fixed-function entry points exist (checked at
+    // creation); the guard restores every state set here.
+    unsafe {
+        g.viewport(0, 0, 1, 1);
+        for cap in [
+            glow::CULL_FACE,
+            glow::DEPTH_CLAMP,
+            glow::RASTERIZER_DISCARD,
+            glow::PRIMITIVE_RESTART,
+        ] {
+            g.disable(cap);
+        }
+        for k in 0..clip_planes(gl) {
+            g.disable(glow::CLIP_DISTANCE0 + k);
+        }
+        g.polygon_mode(glow::FRONT_AND_BACK, glow::FILL);
+        g.use_program(None);
+        if gl.info.program_pipelines {
+            f.BindProgramPipeline(0);
+        }
+        g.bind_vertex_array(None);
+        f.MatrixMode(compat::MODELVIEW);
+        f.LoadIdentity();
+    }
+    gl.check("setting up selection")
 }
 
-/// One selection pass: the group's candidates drawn into one volume.
-fn run_volume(
+/// Words one hit record takes: hits, min depth, max depth, the host's names and ours.
+fn hit_record_words(gl: &Gl) -> usize {
+    // SAFETY: as in `set_up_selection`; a GL 1.0 query.
+    let depth = unsafe { gl.gl.get_parameter_i32(compat::NAME_STACK_DEPTH) };
+    3 + depth.max(0) as usize + 1
+}
+
+/// Answers a batch: for each group, its candidates are loaded once and drawn into each of
+/// its volumes.
+fn select_batch(
     gl: &Gl,
     sc: &mut Scratch,
-    vol: &Volume,
-    step: Step,
-    record: usize,
-    vi: u32,
-    cand_base: u32,
+    q: &QueryMeshes<'_>,
+    batch: &Batch,
     hits: &mut Vec<Hit>,
 ) -> Result<()> {
-    let f = gl.ff();
-    let o = vol.origin;
-    let l = |p: &[f32; 3]| {
-        [
-            f64::from(p[0]) - o[0],
-            f64::from(p[1]) - o[1],
-            f64::from(p[2]) - o[2],
-        ]
+    set_up_selection(gl)?;
+    let pass = Pass {
+        gl,
+        step: batch.step,
+        record: hit_record_words(gl),
+        h: q.gl_half_depth(),
     };
-    let n = unsafe {
-        f.MatrixMode(PROJECTION);
-        f.LoadMatrixd(vol.projection.as_ptr());
-        f.MatrixMode(MODELVIEW);
-        for (k, eq) in vol.planes.iter().enumerate() {
-            f.ClipPlane(glow::CLIP_DISTANCE0 + k as u32, eq.as_ptr());
-            gl.gl.enable(glow::CLIP_DISTANCE0 + k as u32);
-        }
-        f.RenderMode(SELECT);
-        f.PushName(0);
-        match step {
-            Step::BoxesInBoxes => {
-                // The volume's centre in local coordinates is the origin for box volumes.
-                for (i, b) in sc.boxes.iter().enumerate() {
-                    f.LoadName(i as u32);
-                    let lo = l(&b.min);
-                    let hi = l(&b.max);
-                    let c = |x: usize, y: usize, z: usize| {
-                        [[lo[0], hi[0]][x], [lo[1], hi[1]][y], [lo[2], hi[2]][z]]
-                    };
-                    let strip = |pts: &[[f64; 3]]| {
-                        f.Begin(TRIANGLE_STRIP);
-                        for p in pts {
-                            f.Vertex3d(p[0], p[1], p[2]);
-                        }
-                        f.End();
-                    };
-                    // The four sides, then bottom and top.
-                    strip(&[
-                        c(0, 0, 0),
-                        c(0, 0, 1),
-                        c(1, 0, 0),
-                        c(1, 0, 1),
-                        c(1, 1, 0),
-                        c(1, 1, 1),
-                        c(0, 1, 0),
-                        c(0, 1, 1),
-                        c(0, 0, 0),
-                        c(0, 0, 1),
-                    ]);
-                    strip(&[c(0, 0, 0), c(1, 0, 0), c(0, 1, 0), c(1, 1, 0)]);
-                    strip(&[c(0, 0, 1), c(1, 0, 1), c(0, 1, 1), c(1, 1, 1)]);
-                    // A volume wholly inside the box meets no face: a cross-section of
-                    // the box through the volume's centre (local z = 0, clamped into the
-                    // box) catches that case.
-                    let z = 0f64.clamp(lo[2], hi[2]);
-                    strip(&[
-                        [lo[0], lo[1], z],
-                        [hi[0], lo[1], z],
-                        [lo[0], hi[1], z],
-                        [hi[0], hi[1], z],
-                    ]);
+    for grp in &batch.groups {
+        sc.load_candidates(q, batch, grp);
+        pass.size_select_buffer(sc);
+        for vi in grp.volumes.clone() {
+            let v = batch.volumes[vi as usize];
+            let at = (vi, grp.candidates.start);
+            match batch.step {
+                Step::BoxesInBoxes | Step::PolygonsInBoxes => {
+                    pass.select_in_box(sc, q.boxed(v), at, hits)?
                 }
-            }
-            _ => {
-                for (i, (t, nt, flat)) in sc.tris.iter().enumerate() {
-                    f.LoadName(i as u32);
-                    let lt = |p: &P3| [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
-                    f.Begin(TRIANGLES);
-                    for tri in &t[..*nt] {
-                        for p in tri {
-                            let p = lt(p);
-                            f.Vertex3d(p[0], p[1], p[2]);
-                        }
-                    }
-                    f.End();
-                    // Degenerate triangles: also as a segment and a point, so a
-                    // zero-area primitive is never dropped by the rasteriser's setup.
-                    for (tri, _) in t[..*nt].iter().zip(flat).filter(|(_, &fl)| fl) {
-                        f.Begin(LINE_STRIP);
-                        for p in tri.iter().chain(std::iter::once(&tri[0])) {
-                            let p = lt(p);
-                            f.Vertex3d(p[0], p[1], p[2]);
-                        }
-                        f.End();
-                        f.Begin(POINTS);
-                        for p in tri {
-                            let p = lt(p);
-                            f.Vertex3d(p[0], p[1], p[2]);
-                        }
-                        f.End();
-                    }
-                }
+                Step::PolygonsInPolygons => pass.select_in_polygon(sc, q, v, at, hits)?,
             }
         }
-        f.PopName();
-        let n = f.RenderMode(RENDER);
+    }
+    gl.check("selection")
+}
+
+impl Scratch {
+    /// The group's candidates: their boxes, and (steps 3-5) their triangles.
+    fn load_candidates(&mut self, q: &QueryMeshes<'_>, batch: &Batch, grp: &Group) {
+        let cands = &batch.candidates[grp.candidates.start as usize..grp.candidates.end as usize];
+        self.boxes.clear();
+        if batch.step == Step::BoxesInBoxes {
+            self.boxes.extend(cands.iter().map(|&c| q.boxed(c)));
+            return;
+        }
+        self.boxes
+            .extend(cands.iter().map(|&c| q.mesh(c).poly_box(c.index as usize)));
+        self.tris.clear();
+        self.tris.extend(cands.iter().map(|&c| {
+            let mut t = [[[0.0; 3]; 3]; 2];
+            let n = q.mesh(c).triangles(c.index as usize, &mut t);
+            let flat = [0, 1].map(|i| i < n && collinear(&t[i][0], &t[i][1], &t[i][2]));
+            (t, n, flat)
+        }));
+    }
+}
+
+/// One step's selection passes: the GL, what is drawn, the hit record size and the half
+/// depth.
+struct Pass<'a> {
+    gl: &'a Gl,
+    step: Step,
+    record: usize,
+    h: f64,
+}
+
+impl Pass<'_> {
+    /// A selection buffer with room for every candidate of the group, handed to the GL.
+    fn size_select_buffer(&self, sc: &mut Scratch) {
+        let need = sc.boxes.len() * self.record + 16;
+        if sc.select_buf.len() < need {
+            sc.select_buf = vec![0; need];
+        }
+        // SAFETY: as in `set_up_selection`; the buffer lives in the scratch, unmoved until
+        // the next call resizes it (after which this is called again), and the guard gives
+        // the host's buffer back before the scratch is touched again.
+        unsafe {
+            self.gl
+                .ff()
+                .SelectBuffer(sc.select_buf.len() as i32, sc.select_buf.as_mut_ptr());
+        }
+    }
+
+    /// Steps 1-4: the group's candidates drawn into the box `vb`; `at` is (volume index,
+    /// first candidate index) in the batch.
+    fn select_in_box(
+        &self,
+        sc: &mut Scratch,
+        vb: Aabb,
+        at: (u32, u32),
+        hits: &mut Vec<Hit>,
+    ) -> Result<()> {
+        let centre = (V3::from(widen(&vb.min)) + V3::from(widen(&vb.max))) / 2.0;
+        let vol = box_volume(&vb, self.h, reach(&centre.into(), &sc.boxes));
+        self.run(sc, &vol, at, hits)
+    }
+
+    /// Step 5: the group's candidates drawn into the viewing volume of each triangle of
+    /// polygon `v`, each hit once, then confirmed on the CPU with the CPU backend's test
+    /// at the epsilon asked for (the GL used at least the minimum depth, so it lost
+    /// nothing): exact at epsilon 0.
+    fn select_in_polygon(
+        &self,
+        sc: &mut Scratch,
+        q: &QueryMeshes<'_>,
+        v: Prim,
+        at: (u32, u32),
+        hits: &mut Vec<Hit>,
+    ) -> Result<()> {
+        let first = hits.len();
+        let mut vt = [[[0.0; 3]; 3]; 2];
+        let nv = q.mesh(v).triangles(v.index as usize, &mut vt);
+        for t in &vt[..nv] {
+            let vol = triangle_volume(t, self.h, reach(&t[0], &sc.boxes));
+            self.run(sc, &vol, at, hits)?;
+        }
+        // Quads: a candidate may be in both triangles' volumes.
+        hits[first..].sort_unstable();
+        let mut last = None;
+        retain_from(hits, first, |hit| last.replace(*hit) != Some(*hit));
+        let base = at.1;
+        retain_from(hits, first, |hit| {
+            let (ct, nc, _) = &sc.tris[(hit.candidate - base) as usize];
+            polygon_meets(&vt, nv, ct, *nc, q.half_depth)
+        });
+        Ok(())
+    }
+
+    /// One selection pass: the group's candidates drawn into one volume; a hit per
+    /// candidate drawn inside, named by its position in the batch.
+    fn run(
+        &self,
+        sc: &mut Scratch,
+        vol: &Volume,
+        at: (u32, u32),
+        hits: &mut Vec<Hit>,
+    ) -> Result<()> {
+        let f = self.gl.ff();
+        // SAFETY: as in `set_up_selection`; the selection buffer holds a record for every
+        // candidate drawn (`size_select_buffer`), and each Begin has its End.
+        let n = unsafe {
+            f.MatrixMode(compat::PROJECTION);
+            f.LoadMatrixd(vol.projection.as_ptr());
+            f.MatrixMode(compat::MODELVIEW);
+            for (k, eq) in vol.planes().iter().enumerate() {
+                f.ClipPlane(compat::CLIP_PLANE0 + k as u32, eq.as_ptr());
+                self.gl.gl.enable(compat::CLIP_PLANE0 + k as u32);
+            }
+            f.RenderMode(compat::SELECT);
+            f.PushName(0);
+            match self.step {
+                Step::BoxesInBoxes => draw_boxes(f, &sc.boxes, &vol.origin),
+                _ => draw_polygons(f, &sc.tris, &vol.origin),
+            }
+            f.PopName();
+            let n = f.RenderMode(compat::RENDER);
+            for k in 0..vol.planes().len() {
+                self.gl.gl.disable(compat::CLIP_PLANE0 + k as u32);
+            }
+            n
+        };
         sc.readbacks += 1;
-        for k in 0..vol.planes.len() {
-            gl.gl.disable(glow::CLIP_DISTANCE0 + k as u32);
+        read_hits(&sc.select_buf, n, self.record, at, hits)
+    }
+}
+
+/// Keeps, of `hits[first..]`, those `keep` accepts, in order.
+fn retain_from(hits: &mut Vec<Hit>, first: usize, mut keep: impl FnMut(&Hit) -> bool) {
+    let mut w = first;
+    for r in first..hits.len() {
+        if keep(&hits[r]) {
+            hits.swap(w, r);
+            w += 1;
         }
-        n
-    };
+    }
+    hits.truncate(w);
+}
+
+/// Boxes as triangle strips, named by their position, relative to origin `o`.
+///
+/// # Safety
+/// `f` was loaded for the context current on this thread, in selection mode with a name
+/// pushed.
+unsafe fn draw_boxes(f: &compat::Gl, boxes: &[Aabb], o: &P3) {
+    let o = V3::from(*o);
+    // SAFETY: the caller's contract; each Begin has its End.
+    unsafe {
+        let strip = |pts: &[V3]| {
+            f.Begin(compat::TRIANGLE_STRIP);
+            for p in pts {
+                f.Vertex3d(p.x, p.y, p.z);
+            }
+            f.End();
+        };
+        for (i, b) in boxes.iter().enumerate() {
+            f.LoadName(i as u32);
+            let lo = V3::from(widen(&b.min)) - o;
+            let hi = V3::from(widen(&b.max)) - o;
+            let c = |x: usize, y: usize, z: usize| {
+                V3::new([lo.x, hi.x][x], [lo.y, hi.y][y], [lo.z, hi.z][z])
+            };
+            // The four sides, then bottom and top.
+            strip(&[
+                c(0, 0, 0),
+                c(0, 0, 1),
+                c(1, 0, 0),
+                c(1, 0, 1),
+                c(1, 1, 0),
+                c(1, 1, 1),
+                c(0, 1, 0),
+                c(0, 1, 1),
+                c(0, 0, 0),
+                c(0, 0, 1),
+            ]);
+            strip(&[c(0, 0, 0), c(1, 0, 0), c(0, 1, 0), c(1, 1, 0)]);
+            strip(&[c(0, 0, 1), c(1, 0, 1), c(0, 1, 1), c(1, 1, 1)]);
+            // A volume wholly inside the box meets no face: a cross-section of the box
+            // through the volume's centre (local z = 0, clamped into the box) catches that.
+            let z = 0f64.clamp(lo.z, hi.z);
+            strip(&[
+                V3::new(lo.x, lo.y, z),
+                V3::new(hi.x, lo.y, z),
+                V3::new(lo.x, hi.y, z),
+                V3::new(hi.x, hi.y, z),
+            ]);
+        }
+    }
+}
+
+/// Polygons as triangles, named by their position, relative to origin `o`; degenerate
+/// triangles also as a segment and points, so a zero-area primitive is never dropped by
+/// the rasteriser's setup.
+///
+/// # Safety
+/// As [`draw_boxes`].
+unsafe fn draw_polygons(f: &compat::Gl, polys: &[Candidate], o: &P3) {
+    let o = V3::from(*o);
+    // SAFETY: the caller's contract; each Begin has its End.
+    unsafe {
+        let vertex = |p: &P3| {
+            let p = V3::from(*p) - o;
+            f.Vertex3d(p.x, p.y, p.z);
+        };
+        for (i, (t, nt, flat)) in polys.iter().enumerate() {
+            f.LoadName(i as u32);
+            f.Begin(compat::TRIANGLES);
+            t[..*nt].iter().flatten().for_each(vertex);
+            f.End();
+            for (tri, _) in t[..*nt].iter().zip(flat).filter(|(_, &fl)| fl) {
+                f.Begin(compat::LINE_STRIP);
+                tri.iter().chain(std::iter::once(&tri[0])).for_each(vertex);
+                f.End();
+                f.Begin(compat::POINTS);
+                tri.iter().for_each(vertex);
+                f.End();
+            }
+        }
+    }
+}
+
+/// The hits of `n` selection records (glRenderMode's answer) as (volume, candidate) pairs,
+/// `at` the volume's index and the group's first candidate in the batch.
+fn read_hits(
+    buf: &[u32],
+    n: i32,
+    record: usize,
+    (volume, cand_base): (u32, u32),
+    hits: &mut Vec<Hit>,
+) -> Result<()> {
     if n < 0 {
         return Err(Error::new(
             ErrorKind::Internal,
@@ -564,17 +597,17 @@ fn run_volume(
     }
     let mut at = 0;
     for _ in 0..n {
-        let names = sc.select_buf[at] as usize;
+        let names = buf[at] as usize;
         if names + 3 > record || names == 0 {
             return Err(Error::new(
                 ErrorKind::Internal,
                 format!("unexpected selection hit record with {names} names"),
             ));
         }
-        let name = sc.select_buf[at + 2 + names];
+        let name = buf[at + 2 + names];
         at += 3 + names;
         hits.push(Hit {
-            volume: vi,
+            volume,
             candidate: cand_base + name,
         });
     }
