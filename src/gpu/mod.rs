@@ -295,9 +295,10 @@ impl Gl {
                 unsafe { f(target, glow::BUFFER_SIZE, &mut v) };
                 v
             }
-            // SAFETY: a GL 1.5 query on the current context (caller's contract).
             None => {
-                i64::from(unsafe { self.gl.get_buffer_parameter_i32(target, glow::BUFFER_SIZE) })
+                // SAFETY: a GL 1.5 query on the current context (caller's contract).
+                let v = unsafe { self.gl.get_buffer_parameter_i32(target, glow::BUFFER_SIZE) };
+                i64::from(v)
             }
         };
         size.max(0) as u64

@@ -338,7 +338,12 @@ unsafe fn save_fixed_function(gl: &Gl) -> Result<FixedFunction> {
         f.GetDoublev(compat::PROJECTION_MATRIX, projection.as_mut_ptr());
         f.GetDoublev(compat::MODELVIEW_MATRIX, modelview.as_mut_ptr());
         let mut ptr: *mut std::ffi::c_void = std::ptr::null_mut();
-        f.GetPointerv(compat::SELECTION_BUFFER_POINTER, &mut ptr);
+        // The generated binding takes `*const *mut c_void` for the GL's `void **`: pass a
+        // pointer that may be written through.
+        f.GetPointerv(
+            compat::SELECTION_BUFFER_POINTER,
+            (&raw mut ptr).cast_const(),
+        );
         let clip_planes = (0..clip_planes(gl))
             .map(|k| {
                 let mut eq = [0.0; 4];
