@@ -15,14 +15,10 @@ use glcollide::internals::Selector;
 use glcollide::obj::load;
 use glcollide::{Positions, Scene, SceneConfig};
 
-#[path = "../tests/gl_support/mod.rs"]
-mod gl_support;
-
-use gl_support::{get_proc_address as gpa, Ctx, Profile};
-
 #[path = "../tests/common/mod.rs"]
 mod common;
 
+use common::backends::gl_support::{get_proc_address as gpa, Ctx, Profile};
 use common::{bounds, wave};
 
 fn median(v: &mut [f64]) -> f64 {
@@ -154,6 +150,7 @@ fn main() {
     // A compatibility-profile context on an EGL device (glutin; llvmpipe without a GPU),
     // current from here on.
     let _ctx = Ctx::new(Profile::Compat);
+    // SAFETY: the context made above is current on this thread; the loader serves it.
     let info = unsafe { Gl::load(gpa, std::ptr::null_mut()) }.unwrap().info;
     let what = format!("{} / {}", info.version_string, info.renderer);
     println!("context: {what}; {frames} frames, epsilon 0.001, median of update + query\n");
@@ -161,6 +158,7 @@ fn main() {
         "| scene | backend | ms per frame | read-backs per query | contacts per frame | = CPU |"
     );
     println!("|---|---|---:|---:|---:|---|");
+    // SAFETY: the context made above is current on this thread; the loader serves it.
     let load_gl = || unsafe { Gl::load(gpa, std::ptr::null_mut()) }.unwrap();
     let mut differ = 0;
     for case in [demo(frames), organs(frames.min(20))] {

@@ -4,13 +4,16 @@
 //! intersecting pair is found, and every extra pair is within epsilon / 2. The GL backends
 //! confirm their last step with the CPU's test, so they must also equal the CPU backend.
 mod common;
-mod gl_support;
+
+use common::backends::gl_support;
 
 use common::{brute_force_exact, brute_force_within, place, shared_mesh, wave, TestMesh};
 use gl_support::*;
 use glcollide::ffi::*;
 
 type Pairs = Vec<(u32, u32)>;
+/// One frame: the reference's positions and the other mesh's.
+type Frame = (Vec<[f32; 3]>, Vec<[f32; 3]>);
 
 /// Runs `frames` (reference, other) position sets through a scene of `backend`.
 fn run(
@@ -18,7 +21,7 @@ fn run(
     eps: f32,
     r: &TestMesh,
     o: &TestMesh,
-    frames: &[(Vec<[f32; 3]>, Vec<[f32; 3]>)],
+    frames: &[Frame],
 ) -> Vec<Pairs> {
     let s = scene(backend, eps, 0);
     let o_id = add_mesh(s, &o.pos, &o.idx, o.k);
@@ -33,6 +36,7 @@ fn run(
             q.iter().map(|c| (c.1, c.2)).collect()
         })
         .collect();
+    // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     unsafe { glcol_scene_destroy(s) };
     out
 }
@@ -43,7 +47,7 @@ fn check(
     eps: f32,
     r: &TestMesh,
     o: &TestMesh,
-    frames: &[(Vec<[f32; 3]>, Vec<[f32; 3]>)],
+    frames: &[Frame],
     min_contacts: usize,
 ) {
     let _ctx = Ctx::new(profile);
@@ -96,7 +100,7 @@ fn check(
     }
 }
 
-fn blade_and_gallbladder() -> (TestMesh, TestMesh, Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)>) {
+fn blade_and_gallbladder() -> (TestMesh, TestMesh, Vec<Frame>) {
     let blade = TestMesh::from_obj(&shared_mesh("scissors_blade"));
     let organ = TestMesh::from_obj(&shared_mesh("gallbladder_glt"));
     // The blade centred on the organ's vertex farthest along +x: it crosses the surface.
@@ -274,6 +278,7 @@ fn epsilon_zero_is_exact_on_the_gl_backends() {
     let s = scene(GlcolBackend::GlCompute, 0.0, 0);
     let o_id = add_mesh(s, &om.pos, &om.idx, 3);
     let b_id = add_mesh(s, &bm.pos, &bm.idx, 3);
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     let host = unsafe {
         let h = g.create_buffer().unwrap();
         let flat: Vec<f32> = om.pos.iter().flatten().copied().collect();
@@ -283,6 +288,7 @@ fn epsilon_zero_is_exact_on_the_gl_backends() {
         g.bind_buffer(glow::ARRAY_BUFFER, None);
         h
     };
+    // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     ok(unsafe { glcol_mesh_bind_gl_buffer(s, o_id, host.0.get(), 0, 0) });
     let got: Pairs = query(s, b_id).iter().map(|c| (c.1, c.2)).collect();
     for p in &exact {
@@ -295,6 +301,7 @@ fn epsilon_zero_is_exact_on_the_gl_backends() {
             "bound: {p:?} beyond the minimum epsilon band"
         );
     }
+    // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     unsafe {
         glcol_scene_destroy(s);
         g.delete_buffer(host);
@@ -315,9 +322,11 @@ fn backend_choice_and_refusals() {
         // AUTO on a software renderer is the CPU.
         let s = scene(GlcolBackend::Auto, 0.001, 0);
         assert_eq!(backend_of(s), GlcolBackend::Cpu as u32);
+        // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
         unsafe { glcol_scene_destroy(s) };
         let s = scene(GlcolBackend::GlCompute, 0.001, 0);
         assert_eq!(backend_of(s), GlcolBackend::GlCompute as u32);
+        // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
         unsafe { glcol_scene_destroy(s) };
     }
     // No current context.
@@ -325,6 +334,7 @@ fn backend_choice_and_refusals() {
     assert_eq!(e.0, GlcolStatus::GlUnavailable);
     assert!(e.1.contains("no GL context is current"), "{}", e.1);
     // No loader.
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe {
         let mut d = std::mem::zeroed::<GlcolSceneDesc>();
         glcol_scene_desc_init(&mut d);
@@ -348,9 +358,11 @@ fn backend_choice_and_refusals() {
     let p = [[0.0f32; 3]; 3];
     let m = add_mesh(s, &p, &[0, 1, 2], 3);
     assert_eq!(
+        // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
         unsafe { glcol_mesh_bind_gl_buffer(s, m, 1, 0, 0) },
         GlcolStatus::Unsupported
     );
+    // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     unsafe { glcol_scene_destroy(s) };
 }
 
@@ -367,12 +379,14 @@ fn positions_from_a_host_buffer() {
     let o_id = add_mesh(s, &o.pos, &o.idx, 3);
     let b_id = add_mesh(s, &b.pos, &b.idx, 3);
     // Host layout: 16 bytes of header, then (x, y, z, nx, ny, nz) per vertex.
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     let host = unsafe { g.create_buffer().unwrap() };
     for (f, (bp, op)) in frames.iter().enumerate() {
         let mut data: Vec<f32> = vec![0.0; 4];
         for p in op {
             data.extend_from_slice(&[p[0], p[1], p[2], 0.0, 0.0, 1.0]);
         }
+        // SAFETY: this test's GL context is current on this thread; the objects are its own.
         unsafe {
             g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
             let bytes = std::slice::from_raw_parts(data.as_ptr().cast::<u8>(), data.len() * 4);
@@ -380,6 +394,7 @@ fn positions_from_a_host_buffer() {
             g.bind_buffer(glow::ARRAY_BUFFER, None);
         }
         update(s, b_id, bp);
+        // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
         ok(unsafe { glcol_mesh_bind_gl_buffer(s, o_id, host.0.get(), 16, 24) });
         let got: Pairs = query(s, b_id).iter().map(|c| (c.1, c.2)).collect();
         let bm = TestMesh {
@@ -404,6 +419,7 @@ fn positions_from_a_host_buffer() {
         }
     }
     // Bad bindings are refused and change nothing.
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe {
         assert_eq!(
             glcol_mesh_bind_gl_buffer(s, o_id, 0, 0, 0),

@@ -8,7 +8,8 @@
 //!   when they have to grow mid-query (started with room for one entry each);
 //! - a NaN in a host buffer is reported as NON_FINITE, and the next good frame is answered.
 mod common;
-mod gl_support;
+
+use common::backends::gl_support;
 
 use common::{place, shared_mesh, wave, TestMesh};
 use gl_support::{get_proc_address, Ctx, Profile};
@@ -187,6 +188,20 @@ fn organ_against_organ() {
     check(&organ_case(), 200);
 }
 
+/// Replaces the contents of the host's buffer `host` with `p` (xyz floats).
+fn fill(g: &glow::Context, host: glow::NativeBuffer, p: &[[f32; 3]]) {
+    use glow::HasContext;
+    let flat: Vec<f32> = p.iter().flatten().copied().collect();
+    // SAFETY: the bytes of `flat`'s floats, borrowed while `flat` lives.
+    let bytes = unsafe { std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4) };
+    // SAFETY: this test's GL context is current on this thread; `host` is its own buffer.
+    unsafe {
+        g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
+        g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STREAM_DRAW);
+        g.bind_buffer(glow::ARRAY_BUFFER, None);
+    }
+}
+
 /// A host buffer with a NaN: NON_FINITE, then the next good frame is answered in full.
 #[test]
 fn nan_in_a_host_buffer() {
@@ -207,14 +222,8 @@ fn nan_in_a_host_buffer() {
     let mut cpu = Scene::new(*s.config()).unwrap();
     let cb = add(&mut cpu, &case.meshes[0]);
     let co = add(&mut cpu, &case.meshes[1]);
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     let host = unsafe { g.create_buffer().unwrap() };
-    let fill = |p: &[[f32; 3]]| unsafe {
-        let flat: Vec<f32> = p.iter().flatten().copied().collect();
-        let bytes = std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4);
-        g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
-        g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STREAM_DRAW);
-        g.bind_buffer(glow::ARRAY_BUFFER, None);
-    };
     let frame = &case.frames[1];
     s.update_positions(blade, 0, Positions::from_points(&frame[0]))
         .unwrap();
@@ -231,12 +240,12 @@ fn nan_in_a_host_buffer() {
     assert!(!want.is_empty());
     let mut bad = frame[1].clone();
     bad[17][1] = f32::NAN;
-    fill(&bad);
+    fill(&g, host, &bad);
     s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
     let e = s.query(blade).unwrap_err();
     assert_eq!(e.kind, ErrorKind::NonFinite, "{}", e.message);
     assert!(e.message.contains(&organ.to_string()), "{}", e.message);
-    fill(&frame[1]);
+    fill(&g, host, &frame[1]);
     let got: Vec<(u32, u32)> = s
         .query(blade)
         .unwrap()
@@ -255,10 +264,12 @@ fn nan_in_a_host_buffer() {
     );
     assert_eq!(s.stats().readbacks, 1);
     s.release_gl();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe { g.delete_buffer(host) };
 }
 
 fn gl_scene_with(config: SceneConfig, f: impl FnOnce(&mut GlComputeSelector)) -> Scene {
+    // SAFETY: a context is current on this thread (made by the caller); the loader serves it.
     let gl = unsafe { Gl::load(get_proc_address, std::ptr::null_mut()) }.expect("GL loads");
     let mut sel = GlComputeSelector::new(gl).expect("GL_COMPUTE on llvmpipe");
     f(&mut sel);
@@ -308,6 +319,7 @@ fn bound_meshes_raise_epsilon_from_their_real_extent() {
                 .create_mesh(Positions::from_points(&fake), &m.idx, 3)
                 .unwrap();
             let flat: Vec<f32> = m.pos.iter().flatten().copied().collect();
+            // SAFETY: this test's GL context is current on this thread; the objects are its own.
             let host = unsafe {
                 let h = g.create_buffer().unwrap();
                 let bytes = std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4);
@@ -324,6 +336,7 @@ fn bound_meshes_raise_epsilon_from_their_real_extent() {
         assert_eq!(n, 0, "placeholders x{scale}: {n} contacts");
         s.release_gl();
         for h in hosts {
+            // SAFETY: this test's GL context is current on this thread; the objects are its own.
             unsafe { g.delete_buffer(h) };
         }
     }

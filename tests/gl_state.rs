@@ -8,7 +8,8 @@
 //! `bind_far_range`); a host whose transform feedback is running is refused with a message,
 //! and answered once it pauses it.
 mod common;
-mod gl_support;
+
+use common::backends::gl_support;
 
 use std::ffi::c_void;
 
@@ -23,6 +24,7 @@ const INDEXED: u32 = 16;
 
 fn snapshot(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Snapshot {
     let mut s: Snapshot = Vec::new();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe {
         let mut ints = |name: &str, p: u32, n: usize| {
             let mut v = vec![0i32; n];
@@ -198,7 +200,7 @@ fn snapshot(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Snapshot {
             i1("LIGHTING", 0x0B50);
             i1("TEXTURE_2D", 0x0DE1);
             let mut p: *mut c_void = std::ptr::null_mut();
-            c.GetPointerv(0x0DF3, &mut p);
+            c.GetPointerv(0x0DF3, (&raw mut p).cast_const());
             s.push(("SELECTION_BUFFER_POINTER".into(), vec![p as usize as f64]));
             for (name, q) in [
                 ("MODELVIEW_MATRIX", 0x0BA6),
@@ -222,6 +224,7 @@ fn snapshot(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Snapshot {
 
 /// Sets plenty of non-default state, as a busy host would have mid-frame.
 fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe {
         let vs = g.create_shader(glow::VERTEX_SHADER).unwrap();
         g.shader_source(vs, "#version 330 core\nlayout(location=0) in vec3 p; void main(){gl_Position=vec4(p,1.0);}");
@@ -333,12 +336,14 @@ fn busy_host(ctx: &Ctx, g: &glow::Context, profile: Profile) -> Vec<u32> {
 fn bind_far_range(g: &glow::Context, b: glow::NativeBuffer) {
     let (far, size) = (3i64 << 30, (1i64 << 31) + 4096);
     bind_range_64(glow::SHADER_STORAGE_BUFFER, 3, b, far, size);
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     let read = unsafe {
         (
             g.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_START, 3),
             g.get_parameter_indexed_i64(glow::SHADER_STORAGE_BUFFER_SIZE, 3),
         )
     };
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     assert_eq!(unsafe { g.get_error() }, glow::NO_ERROR);
     if read != (far, size) {
         eprintln!(
@@ -353,6 +358,9 @@ fn bind_far_range(g: &glow::Context, b: glow::NativeBuffer) {
 /// loader.
 fn bind_range_64(target: u32, index: u32, buffer: glow::NativeBuffer, offset: i64, size: i64) {
     type BindBufferRange = unsafe extern "system" fn(u32, u32, u32, isize, isize);
+    // SAFETY: glBindBufferRange as this context's loader gives it (non-NULL, checked),
+    // with its C signature; the context is current on this thread and the GL validates the
+    // range.
     unsafe {
         let f = get_proc_address(std::ptr::null_mut(), c"glBindBufferRange".as_ptr());
         assert!(!f.is_null());
@@ -375,6 +383,8 @@ struct Pipelines {
 
 impl Pipelines {
     fn load() -> Pipelines {
+        // SAFETY: the entry points this context's loader gives (non-NULL, checked), with
+        // their C signatures.
         unsafe {
             let gen = get_proc_address(std::ptr::null_mut(), c"glGenProgramPipelines".as_ptr());
             let bind = get_proc_address(std::ptr::null_mut(), c"glBindProgramPipeline".as_ptr());
@@ -414,6 +424,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
         let after = snapshot(&ctx, &g, profile);
         compare(what, &before, &after);
         assert_eq!(
+            // SAFETY: this test's GL context is current on this thread; the objects are its own.
             unsafe { g.get_error() },
             glow::NO_ERROR,
             "{what} left a GL error"
@@ -435,6 +446,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
     });
     if backend == GlcolBackend::GlCompute {
         // The host's buffer 0 holds the teapot's positions from here on.
+        // SAFETY: this test's GL context is current on this thread; the objects are its own.
         unsafe {
             g.bind_buffer(
                 glow::COPY_WRITE_BUFFER,
@@ -442,6 +454,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
             );
         }
         let data: Vec<f32> = organ.pos.iter().flatten().copied().collect();
+        // SAFETY: this test's GL context is current on this thread; the objects are its own.
         unsafe {
             let bytes = std::slice::from_raw_parts(data.as_ptr().cast::<u8>(), data.len() * 4);
             g.buffer_data_u8_slice(glow::COPY_WRITE_BUFFER, bytes, glow::STATIC_DRAW);
@@ -451,6 +464,7 @@ fn run(profile: Profile, backend: GlcolBackend) {
             );
         }
         check("glcol_mesh_bind_gl_buffer", &mut || {
+            // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
             ok(unsafe { glcol_mesh_bind_gl_buffer(s, o, host_bufs[0], 0, 0) })
         });
         check("glcol_query (bound buffer)", &mut || {
@@ -458,17 +472,21 @@ fn run(profile: Profile, backend: GlcolBackend) {
         });
     }
     // A host error pending before our call: our call succeeds, the error is still there.
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe { g.enable(0) };
     let before = snapshot(&ctx, &g, profile);
     let _ = query(s, b);
     let after = snapshot(&ctx, &g, profile);
     compare("glcol_query with a pending error", &before, &after);
     assert_eq!(
+        // SAFETY: this test's GL context is current on this thread; the objects are its own.
         unsafe { g.get_error() },
         glow::INVALID_ENUM,
         "the host's pending error was lost"
     );
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     assert_eq!(unsafe { g.get_error() }, glow::NO_ERROR);
+    // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     check("glcol_scene_destroy", &mut || unsafe {
         glcol_scene_destroy(s)
     });
@@ -509,6 +527,7 @@ fn transform_feedback_in_flight(profile: Profile, backend: GlcolBackend) {
     let b = add_mesh(s, &bp, &blade.idx, 3);
     let n = query(s, b).len();
     assert!(n > 0);
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe {
         let vs = g.create_shader(glow::VERTEX_SHADER).unwrap();
         g.shader_source(

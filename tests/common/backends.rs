@@ -63,8 +63,9 @@ pub fn gl_factories() -> Vec<Factory> {
     ]
 }
 
+/// Headless GL contexts (tests/gl_support), also for the GL suites that use `common`.
 #[path = "../gl_support/mod.rs"]
-mod gl_support;
+pub mod gl_support;
 
 thread_local! {
     /// A context per test thread, current from first use until the thread ends (after
