@@ -6,7 +6,8 @@
 //! - the same step-1 to step-4 hits as the step path (the same tests, run in another order);
 //! - exactly one GL read-back per query once the buffers have room, and a complete answer
 //!   when they have to grow mid-query (started with room for one entry each);
-//! - a NaN in a host buffer is reported as NON_FINITE, and the next good frame is answered.
+//! - a NaN in a host buffer is reported as NON_FINITE, and the next good frame is answered;
+//!   the failed query leaves `Scene::contacts()` as the last successful query left it.
 mod common;
 
 use common::backends::gl_support;
@@ -263,6 +264,47 @@ fn nan_in_a_host_buffer() {
         want.len()
     );
     assert_eq!(s.stats().readbacks, 1);
+    s.release_gl();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    unsafe { g.delete_buffer(host) };
+}
+
+/// A query that fails (a NaN in a host buffer) leaves `Scene::contacts()` as the last
+/// successful query answered it, as its documentation promises.
+#[test]
+fn a_failed_query_keeps_the_last_contacts() {
+    use glow::HasContext;
+    let ctx = Ctx::new(Profile::Core);
+    let g = ctx.glow();
+    let case = instrument_case();
+    let config = SceneConfig {
+        epsilon: 0.001,
+        max_polygons_per_box: 0,
+        ..SceneConfig::default()
+    };
+    let mut s = gl_scene(config, Path::Whole);
+    let blade = add(&mut s, &case.meshes[0]);
+    let organ = add(&mut s, &case.meshes[1]);
+    let frame = &case.frames[1];
+    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
+        .unwrap();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    let host = unsafe { g.create_buffer().unwrap() };
+    fill(&g, host, &frame[1]);
+    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    let good: Vec<Contact> = s.query(blade).unwrap().to_vec();
+    assert!(!good.is_empty(), "the scene should collide");
+    assert_eq!(s.contacts(), &good[..]);
+    let mut bad = frame[1].clone();
+    bad[17][1] = f32::NAN;
+    fill(&g, host, &bad);
+    let e = s.query(blade).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::NonFinite, "{}", e.message);
+    assert_eq!(
+        s.contacts(),
+        &good[..],
+        "a failed query changed contacts() (cleared or partial)"
+    );
     s.release_gl();
     // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe { g.delete_buffer(host) };
