@@ -224,6 +224,11 @@ unsafe fn compile(
 ) -> Result<glow::NativeProgram> {
     let meets = if meets { shaders::MEETS } else { "" };
     let src = format!("{}\n#line 1 1\n{meets}\n#line 1 2\n{body}", shaders::COMMON);
+    let refused = |what: &str, log: String| {
+        unavailable(format!(
+            "the {name} compute shader does not {what} here: {log}"
+        ))
+    };
     // SAFETY: the caller's contract; the shader and program are ours, made here.
     unsafe {
         let sh = g.create_shader(glow::COMPUTE_SHADER).map_err(gl_err)?;
@@ -232,9 +237,7 @@ unsafe fn compile(
         if !g.get_shader_compile_status(sh) {
             let log = g.get_shader_info_log(sh);
             g.delete_shader(sh);
-            return Err(unavailable(format!(
-                "the {name} compute shader does not compile here: {log}"
-            )));
+            return Err(refused("compile", log));
         }
         let p = match g.create_program() {
             Ok(p) => p,
@@ -250,9 +253,7 @@ unsafe fn compile(
         if !g.get_program_link_status(p) {
             let log = g.get_program_info_log(p);
             g.delete_program(p);
-            return Err(unavailable(format!(
-                "the {name} compute shader does not link here: {log}"
-            )));
+            return Err(refused("link", log));
         }
         Ok(p)
     }

@@ -159,6 +159,21 @@ uint pair_of(uint t, uint w) {
     }
     return lo;
 }
+
+// Flat test t of a step over the pairs (first tests in word w): its pair k, the test's
+// index i in the pair, the pair's other leaf b, reference leaf r, list offset off, and
+// the reference leaf's polygon count nr.
+struct PairTest { uint k; uint i; uint b; uint r; uint off; uint nr; };
+PairTest pair_test(uint t, uint w) {
+    PairTest p;
+    p.k = pair_of(t, w);
+    p.i = t - pairs[PAIR * p.k + w];
+    p.b = pairs[PAIR * p.k];
+    p.r = pairs[PAIR * p.k + 1u];
+    p.off = pairs[PAIR * p.k + 2u];
+    p.nr = leaf_size(p.r);
+    return p;
+}
 #endif
 
 #if KERNEL == 3
@@ -314,10 +329,8 @@ void main() {
 void main() {
     uint t = thread_index();
     if (t >= h_total34) return;
-    uint k = pair_of(t, 5u);
-    uint i = t - pairs[PAIR * k + 5u];
-    uint b = pairs[PAIR * k], r = pairs[PAIR * k + 1u], off = pairs[PAIR * k + 2u];
-    uint nr = leaf_size(r);
+    PairTest pt = pair_test(t, 5u);
+    uint k = pt.k, i = pt.i, b = pt.b, r = pt.r, off = pt.off, nr = pt.nr;
     bool step3 = i < nr;
     uint p = step3 ? leaf_polys[2u * r] + i : leaf_polys[2u * b] + (i - nr);
     vec3 vlo, vhi, plo, phi;
@@ -336,10 +349,8 @@ void main() {
 void main() {
     uint t = thread_index();
     if (t >= h_total5) return;
-    uint k = pair_of(t, 6u);
-    uint i = t - pairs[PAIR * k + 6u];
-    uint b = pairs[PAIR * k], r = pairs[PAIR * k + 1u], off = pairs[PAIR * k + 2u];
-    uint nr = leaf_size(r);
+    PairTest pt = pair_test(t, 6u);
+    uint k = pt.k, i = pt.i, b = pt.b, off = pt.off, nr = pt.nr;
     if (off + nr + leaf_size(b) > u_list_cap) return;
     uint n4 = pairs[PAIR * k + 4u];
     uint rp = lists[off + i / n4];
