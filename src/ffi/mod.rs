@@ -191,7 +191,7 @@ unsafe fn positions<'a>(p: *const f32, count: usize, stride: usize) -> Result<Po
     if (p as usize) % std::mem::align_of::<f32>() != 0 {
         return Err(invalid("positions is not 4-byte aligned"));
     }
-    let s = if stride == 0 { 12 } else { stride };
+    let s = Positions::stride_or_packed(stride);
     let len = Positions::byte_len(count, s)
         .filter(|&n| n <= isize::MAX as usize)
         .ok_or_else(|| {
