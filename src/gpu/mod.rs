@@ -123,6 +123,109 @@ struct Wide {
     get_buffer_parameter_i64v: Option<GetBufferParameteri64v>,
 }
 
+/// A loader for the current context: an entry point's address, or NULL.
+type Lookup<'a> = &'a dyn Fn(&CStr) -> *const c_void;
+
+impl Wide {
+    /// The entry points the context's version has.
+    fn load(lookup: Lookup<'_>, version: (u32, u32)) -> Wide {
+        let find = |name: &CStr, since: (u32, u32)| {
+            let p = lookup(name);
+            (version >= since && !p.is_null()).then_some(p)
+        };
+        Wide {
+            // SAFETY: non-NULL addresses the loader gave for these names on a context of
+            // the version that has them; the types are their C signatures.
+            bind_buffer_range: find(c"glBindBufferRange", (3, 0))
+                .map(|p| unsafe { std::mem::transmute::<*const c_void, BindBufferRange>(p) }),
+            // SAFETY: as above.
+            get_buffer_parameter_i64v: find(c"glGetBufferParameteri64v", (3, 2)).map(|p| unsafe {
+                std::mem::transmute::<*const c_void, GetBufferParameteri64v>(p)
+            }),
+        }
+    }
+}
+
+/// GL_VERSION of the current context; refuses a loader that is not one, no current
+/// context, and OpenGL ES.
+fn desktop_version(lookup: Lookup<'_>) -> Result<String> {
+    let get_string = lookup(c"glGetString");
+    if get_string.is_null() {
+        return Err(unavailable(
+            "get_proc_address returned NULL for glGetString: not a GL loader?",
+        ));
+    }
+    type GetString = unsafe extern "system" fn(u32) -> *const u8;
+    // SAFETY: a non-NULL address the loader gave for glGetString, whose signature this is;
+    // calling it with GL_VERSION on the thread whose context the loader serves is valid
+    // (NULL when no context is current, checked).
+    let v = unsafe {
+        let get_string: GetString = std::mem::transmute(get_string);
+        get_string(glow::VERSION)
+    };
+    if v.is_null() {
+        return Err(unavailable(
+            "glGetString(GL_VERSION) returned NULL: no GL context is current on this thread",
+        ));
+    }
+    // SAFETY: glGetString returns a NUL-terminated static string (non-NULL, checked).
+    let version_string = unsafe { CStr::from_ptr(v.cast()) }
+        .to_string_lossy()
+        .into_owned();
+    if version_string.starts_with("OpenGL ES") {
+        return Err(unavailable(format!(
+            "the current context is OpenGL ES ({version_string}); glcollide needs desktop GL"
+        )));
+    }
+    Ok(version_string)
+}
+
+/// (core profile, compatibility profile) of the current context.
+fn profile(
+    gl: &glow::Context,
+    version: (u32, u32),
+    exts: &std::collections::HashSet<String>,
+) -> (bool, bool) {
+    if version >= (3, 2) {
+        // SAFETY: GL_CONTEXT_PROFILE_MASK is a GL 3.2 query; the context is current.
+        let mask = unsafe { gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) } as u32;
+        (
+            mask & glow::CONTEXT_CORE_PROFILE_BIT != 0,
+            mask & glow::CONTEXT_COMPATIBILITY_PROFILE_BIT != 0,
+        )
+    } else if version == (3, 1) {
+        let c = exts.contains("GL_ARB_compatibility");
+        (!c, c)
+    } else {
+        (false, true)
+    }
+}
+
+/// The fixed-function entry points GL_SELECT needs, when every one of them loads.
+fn fixed_function(lookup: Lookup<'_>) -> Option<compat::Gl> {
+    let f = compat::Gl::load_with(|name| {
+        let c = CString::new(name).unwrap_or_default();
+        lookup(&c)
+    });
+    let needed = [
+        f.SelectBuffer.is_loaded(),
+        f.RenderMode.is_loaded(),
+        f.PushName.is_loaded(),
+        f.PopName.is_loaded(),
+        f.LoadName.is_loaded(),
+        f.MatrixMode.is_loaded(),
+        f.LoadMatrixd.is_loaded(),
+        f.ClipPlane.is_loaded(),
+        f.GetClipPlane.is_loaded(),
+        f.Begin.is_loaded(),
+        f.Vertex3d.is_loaded(),
+        f.End.is_loaded(),
+        f.GetPointerv.is_loaded(),
+        f.GetDoublev.is_loaded(),
+    ];
+    needed.iter().all(|&b| b).then_some(f)
+}
+
 // SAFETY: the function pointers are plain code addresses. The C API's contract is that a
 // scene is used by one thread at a time and that GL-backed calls run where the scene's
 // context is current; the scene (and so this) may move between threads between calls.
@@ -137,96 +240,20 @@ impl Gl {
         // SAFETY: the caller's contract: `gpa` is a loader called with `user_data`, and
         // `name` is a NUL-terminated string that outlives the call.
         let lookup = |name: &CStr| unsafe { gpa(user_data, name.as_ptr()) } as *const c_void;
-        let get_string = lookup(c"glGetString");
-        if get_string.is_null() {
-            return Err(unavailable(
-                "get_proc_address returned NULL for glGetString: not a GL loader?",
-            ));
-        }
-        type GetString = unsafe extern "system" fn(u32) -> *const u8;
-        // SAFETY: a non-NULL address the loader gave for glGetString, whose signature this
-        // is; calling it with GL_VERSION on the thread whose context the loader serves is
-        // valid (NULL when no context is current, checked).
-        let v = unsafe {
-            let get_string: GetString = std::mem::transmute(get_string);
-            get_string(glow::VERSION)
-        };
-        if v.is_null() {
-            return Err(unavailable(
-                "glGetString(GL_VERSION) returned NULL: no GL context is current on this thread",
-            ));
-        }
-        // SAFETY: glGetString returns a NUL-terminated static string (non-NULL, checked).
-        let version_string = unsafe { CStr::from_ptr(v.cast()) }
-            .to_string_lossy()
-            .into_owned();
-        if version_string.starts_with("OpenGL ES") {
-            return Err(unavailable(format!(
-                "the current context is OpenGL ES ({version_string}); glcollide needs desktop GL"
-            )));
-        }
+        let version_string = desktop_version(&lookup)?;
         // SAFETY: `lookup` loads for the context current on this thread (caller's contract).
         let gl = unsafe { glow::Context::from_loader_function_cstr(lookup) };
         let ver = gl.version();
         let version = (ver.major, ver.minor);
-        let at_least = |a: u32, b: u32| version >= (a, b);
         let exts = gl.supported_extensions();
-        let (core_profile, compat_profile) = if at_least(3, 2) {
-            // SAFETY: GL_CONTEXT_PROFILE_MASK is a GL 3.2 query; the context is current.
-            let mask = unsafe { gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) } as u32;
-            (
-                mask & glow::CONTEXT_CORE_PROFILE_BIT != 0,
-                mask & glow::CONTEXT_COMPATIBILITY_PROFILE_BIT != 0,
-            )
-        } else if version == (3, 1) {
-            let c = exts.contains("GL_ARB_compatibility");
-            (!c, c)
-        } else {
-            (false, true)
-        };
-        let ff = if compat_profile && !core_profile {
-            let f = compat::Gl::load_with(|name| {
-                let c = CString::new(name).unwrap_or_default();
-                lookup(&c)
-            });
-            let needed = [
-                f.SelectBuffer.is_loaded(),
-                f.RenderMode.is_loaded(),
-                f.PushName.is_loaded(),
-                f.PopName.is_loaded(),
-                f.LoadName.is_loaded(),
-                f.MatrixMode.is_loaded(),
-                f.LoadMatrixd.is_loaded(),
-                f.ClipPlane.is_loaded(),
-                f.GetClipPlane.is_loaded(),
-                f.Begin.is_loaded(),
-                f.Vertex3d.is_loaded(),
-                f.End.is_loaded(),
-                f.GetPointerv.is_loaded(),
-                f.GetDoublev.is_loaded(),
-            ];
-            needed.iter().all(|&b| b).then_some(f)
-        } else {
-            None
-        };
-        let load_wide = |name: &CStr, since: (u32, u32)| {
-            let p = lookup(name);
-            (version >= since && !p.is_null()).then_some(p)
-        };
-        let wide = Wide {
-            // SAFETY: non-NULL addresses the loader gave for these names on a context of
-            // the version that has them; the types are their C signatures.
-            bind_buffer_range: load_wide(c"glBindBufferRange", (3, 0))
-                .map(|p| unsafe { std::mem::transmute::<*const c_void, BindBufferRange>(p) }),
-            // SAFETY: as above.
-            get_buffer_parameter_i64v: load_wide(c"glGetBufferParameteri64v", (3, 2)).map(
-                |p| unsafe { std::mem::transmute::<*const c_void, GetBufferParameteri64v>(p) },
-            ),
-        };
+        let (core_profile, compat_profile) = profile(&gl, version, exts);
+        let ff = (compat_profile && !core_profile)
+            .then(|| fixed_function(&lookup))
+            .flatten();
         let program_pipelines = ff
             .as_ref()
             .is_some_and(|f| f.BindProgramPipeline.is_loaded())
-            && (at_least(4, 1) || exts.contains("GL_ARB_separate_shader_objects"));
+            && (version >= (4, 1) || exts.contains("GL_ARB_separate_shader_objects"));
         // SAFETY: GL 1.0 string queries on the current context.
         let (renderer, vendor) = unsafe {
             (
@@ -244,6 +271,7 @@ impl Gl {
             vendor,
             version_string,
         };
+        let wide = Wide::load(&lookup, version);
         Ok(Gl { gl, ff, wide, info })
     }
 
