@@ -4,9 +4,6 @@
 //! query's, both as CPU time of this thread measured in the same process (no timing is
 //! asserted). `cargo test --release --test contact_heavy -- --nocapture`.
 
-mod common;
-use common::*;
-
 use glcollide::geom::contact::{contact_geometry, ContactGeometry};
 use glcollide::geom::tritri::triangles_intersect;
 use glcollide::{Positions, Scene, SceneConfig};
@@ -21,15 +18,16 @@ fn now(t0: &Instant) -> f64 {
         .unwrap_or_else(|| t0.elapsed().as_nanos() as f64)
 }
 
-/// Time of one run of `f`, nanoseconds: the least over 3 rounds of the mean of 40 runs
-/// (the kernel updates a thread's CPU time only at ticks and switches, so a round must be
-/// long against them).
-fn least(mut f: impl FnMut()) -> f64 {
+/// Time of one run of `f`, nanoseconds: the least over 3 rounds of the mean of `runs`
+/// runs (the kernel updates a thread's CPU time only at ticks and switches, so a round
+/// must be long against them; `HEAVY_RUNS=1` makes it one run, for profilers).
+fn least(runs: usize, mut f: impl FnMut()) -> f64 {
     let t0 = Instant::now();
-    let runs: usize = std::env::var("HEAVY_RUNS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(40);
+    let runs = if std::env::var("HEAVY_RUNS").is_ok_and(|v| v == "1") {
+        1
+    } else {
+        runs
+    };
     (0..3)
         .map(|_| {
             let s = now(&t0);
@@ -40,6 +38,41 @@ fn least(mut f: impl FnMut()) -> f64 {
         })
         .fold(f64::INFINITY, f64::min)
 }
+
+/// A mesh from ../shared/meshes.
+fn shared_mesh(name: &str) -> glcollide::obj::ObjMesh {
+    let p = format!("{}/../shared/meshes/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+    glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}"))
+}
+
+/// Box of a point set.
+fn bounds(p: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    p.iter().fold(
+        ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+        |(lo, hi), v| {
+            (
+                [0, 1, 2].map(|k| lo[k].min(v[k])),
+                [0, 1, 2].map(|k| hi[k].max(v[k])),
+            )
+        },
+    )
+}
+
+/// The benchmarks' deformation (tests/common's `wave`): every vertex moves.
+fn wave(rest: &[[f32; 3]], amp: f32, freq: f32, phase: f32) -> Vec<[f32; 3]> {
+    rest.iter()
+        .map(|p| {
+            [
+                p[0] + amp * (phase + freq * p[1]).sin(),
+                p[1] + amp * (phase * 1.3 + freq * p[2]).sin(),
+                p[2] + amp * (phase * 0.7 + freq * p[0]).sin(),
+            ]
+        })
+        .collect()
+}
+
+/// A polygon as `contact_geometry` takes it (a triangle: its second slot unused).
+type Polygon = [[[f64; 3]; 3]; 2];
 
 fn triangle(pos: &[[f32; 3]], idx: &[u32], p: u32) -> [[f64; 3]; 3] {
     let v = |k: usize| pos[idx[3 * p as usize + k] as usize].map(f64::from);
@@ -79,10 +112,10 @@ fn heavy_case_every_pair() {
                 .update_positions(ib, 0, Positions::from_points(&pb))
                 .unwrap();
             let contacts = scene.query(ia).unwrap().to_vec();
-            let query_ns = least(|| {
+            let query_ns = least(40, || {
                 black_box(scene.query(ia).unwrap().len());
             });
-            let tris: Vec<([[[f64; 3]; 3]; 2], [[[f64; 3]; 3]; 2])> = contacts
+            let tris: Vec<(Polygon, Polygon)> = contacts
                 .iter()
                 .map(|c| {
                     let t = triangle(&pa, &ma.triangles, c.reference_polygon);
@@ -91,7 +124,7 @@ fn heavy_case_every_pair() {
                 })
                 .collect();
             let mut out: Vec<ContactGeometry> = Vec::with_capacity(tris.len());
-            let geometry_ns = least(|| {
+            let geometry_ns = least(400, || {
                 out.clear();
                 out.extend(tris.iter().map(|(t, u)| contact_geometry(t, 1, u, 1)));
                 black_box(&out);
