@@ -1,0 +1,183 @@
+//! Contact geometry (`geom::contact`) on the benchmarks' heavy case, colon against small
+//! intestine (20k triangles each, overlapping, opposite warps), for every pair the query
+//! reports: its meaning checked against the exact test, and its cost printed next to the
+//! query's, both as CPU time of this thread measured in the same process (no timing is
+//! asserted). `cargo test --release --test contact_heavy -- --nocapture`.
+
+use glcollide::geom::contact::{contact_geometry, ContactGeometry};
+use glcollide::geom::tritri::triangles_intersect;
+use glcollide::{Positions, Scene, SceneConfig};
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Nanoseconds of CPU time this thread has used (Linux), else wall time since `t0`.
+fn now(t0: &Instant) -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .unwrap_or_else(|| t0.elapsed().as_nanos() as f64)
+}
+
+/// Time of one run of `f`, nanoseconds: the least over 3 rounds of the mean of `runs`
+/// runs (the kernel updates a thread's CPU time only at ticks and switches, so a round
+/// must be long against them; `HEAVY_RUNS=1` makes it one run, for profilers).
+fn least(runs: usize, mut f: impl FnMut()) -> f64 {
+    let t0 = Instant::now();
+    let runs = if std::env::var("HEAVY_RUNS").is_ok_and(|v| v == "1") {
+        1
+    } else {
+        runs
+    };
+    (0..3)
+        .map(|_| {
+            let s = now(&t0);
+            for _ in 0..runs {
+                f();
+            }
+            (now(&t0) - s) / runs as f64
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A mesh from ../shared/meshes.
+fn shared_mesh(name: &str) -> glcollide::obj::ObjMesh {
+    let p = format!("{}/../shared/meshes/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+    glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}"))
+}
+
+/// Box of a point set.
+fn bounds(p: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
+    p.iter().fold(
+        ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
+        |(lo, hi), v| {
+            (
+                [0, 1, 2].map(|k| lo[k].min(v[k])),
+                [0, 1, 2].map(|k| hi[k].max(v[k])),
+            )
+        },
+    )
+}
+
+/// The benchmarks' deformation (tests/common's `wave`): every vertex moves.
+fn wave(rest: &[[f32; 3]], amp: f32, freq: f32, phase: f32) -> Vec<[f32; 3]> {
+    rest.iter()
+        .map(|p| {
+            [
+                p[0] + amp * (phase + freq * p[1]).sin(),
+                p[1] + amp * (phase * 1.3 + freq * p[2]).sin(),
+                p[2] + amp * (phase * 0.7 + freq * p[0]).sin(),
+            ]
+        })
+        .collect()
+}
+
+/// A polygon as `contact_geometry` takes it (a triangle: its second slot unused).
+type Polygon = [[[f64; 3]; 3]; 2];
+
+fn triangle(pos: &[[f32; 3]], idx: &[u32], p: u32) -> [[f64; 3]; 3] {
+    let v = |k: usize| pos[idx[3 * p as usize + k] as usize].map(f64::from);
+    [v(0), v(1), v(2)]
+}
+
+#[test]
+fn heavy_case_every_pair() {
+    let ma = shared_mesh("colon");
+    let mb = shared_mesh("small_intestine");
+    let (lo, hi) = bounds(&ma.positions);
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
+    let mut totals = (0.0, 0.0, 0usize);
+    let only_zero = std::env::var("HEAVY_EPS0").is_ok();
+    for eps in [0.0, 0.001 * extent] {
+        if only_zero && eps > 0.0 {
+            continue;
+        }
+        let mut scene = Scene::new(SceneConfig {
+            epsilon: eps,
+            max_polygons_per_box: 0,
+        })
+        .unwrap();
+        let ia = scene
+            .create_mesh(Positions::from_points(&ma.positions), &ma.triangles, 3)
+            .unwrap();
+        let ib = scene
+            .create_mesh(Positions::from_points(&mb.positions), &mb.triangles, 3)
+            .unwrap();
+        for f in 0..3 {
+            let pa = wave(&ma.positions, 0.004 * extent, 8.0 / extent, f as f32 * 0.1);
+            let pb = wave(&mb.positions, -0.004 * extent, 8.0 / extent, f as f32 * 0.1);
+            scene
+                .update_positions(ia, 0, Positions::from_points(&pa))
+                .unwrap();
+            scene
+                .update_positions(ib, 0, Positions::from_points(&pb))
+                .unwrap();
+            let contacts = scene.query(ia).unwrap().to_vec();
+            let query_ns = least(40, || {
+                black_box(scene.query(ia).unwrap().len());
+            });
+            let tris: Vec<(Polygon, Polygon)> = contacts
+                .iter()
+                .map(|c| {
+                    let t = triangle(&pa, &ma.triangles, c.reference_polygon);
+                    let u = triangle(&pb, &mb.triangles, c.other_polygon);
+                    ([t, t], [u, u])
+                })
+                .collect();
+            let mut out: Vec<ContactGeometry> = Vec::with_capacity(tris.len());
+            let geometry_ns = least(400, || {
+                out.clear();
+                out.extend(tris.iter().map(|(t, u)| contact_geometry(t, 1, u, 1)));
+                black_box(&out);
+            });
+            let mut counts = [0usize; 3];
+            for ((t, u), g) in tris.iter().zip(&out) {
+                let finite = g
+                    .point_a
+                    .iter()
+                    .chain(&g.point_b)
+                    .chain(&g.normal)
+                    .all(|x| x.is_finite());
+                let n2: f64 = g.normal.iter().map(|x| x * x).sum();
+                assert!(
+                    finite && g.depth.is_finite() && (n2 - 1.0).abs() < 1e-14,
+                    "{g:?}"
+                );
+                assert_eq!(
+                    g.intersecting,
+                    triangles_intersect(&t[0], &u[0]),
+                    "{t:?} {u:?}"
+                );
+                assert!(
+                    g.intersecting || eps > 0.0,
+                    "epsilon 0 reports intersecting pairs only"
+                );
+                if g.intersecting {
+                    assert!(g.depth >= 0.0);
+                } else {
+                    assert!(g.depth <= 0.0 && -g.depth <= f64::from(eps) * 1.01, "{g:?}");
+                }
+                counts[usize::from(g.intersecting) + usize::from(g.coplanar)] += 1;
+            }
+            let n = contacts.len().max(1) as f64;
+            println!(
+                "eps {eps:.4} frame {f}: {} pairs (band/crossing/coplanar {counts:?}): query \
+                 {:.0} µs, geometry {:.0} µs = {:.1}% of it, {:.0} ns per pair",
+                contacts.len(),
+                query_ns / 1e3,
+                geometry_ns / 1e3,
+                100.0 * geometry_ns / query_ns,
+                geometry_ns / n
+            );
+            if eps == 0.0 {
+                totals.0 += query_ns;
+                totals.1 += geometry_ns;
+                totals.2 += contacts.len();
+            }
+        }
+    }
+    println!(
+        "epsilon 0, 3 frames: geometry adds {:.1}% to the query ({:.0} ns per pair)",
+        100.0 * totals.1 / totals.0,
+        totals.1 / totals.2.max(1) as f64
+    );
+}
