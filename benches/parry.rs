@@ -297,7 +297,7 @@ fn main() {
             .iter()
             .map(|m| {
                 m.bvh().total_memory_size()
-                    + m.vertices().len() * std::mem::size_of::<Vector>()
+                    + std::mem::size_of_val(m.vertices())
                     + m.indices().len() * 12
             })
             .sum();

@@ -93,12 +93,20 @@ fn spheres_case(n: usize) -> Case {
     };
     let mut frames = [Vec::new(), Vec::new()];
     for i in 0..n {
-        let c = [(i % side) as f32, (i / side % side) as f32, (i / side / side) as f32]
-            .map(|x| x * 1.9);
+        let c = [
+            (i % side) as f32,
+            (i / side % side) as f32,
+            (i / side / side) as f32,
+        ]
+        .map(|x| x * 1.9);
         let j = [rnd(), rnd(), rnd()].map(|x| x * 0.05);
         for (f, frame) in frames.iter_mut().enumerate() {
             let o = [0, 1, 2].map(|k| c[k] + f as f32 * j[k]);
-            frame.push(unit.iter().map(|p| [0, 1, 2].map(|k| o[k] + p[k])).collect());
+            frame.push(
+                unit.iter()
+                    .map(|p| [0, 1, 2].map(|k| o[k] + p[k]))
+                    .collect(),
+            );
         }
     }
     let extent = extent_of(frames[0].iter().flatten());
@@ -131,7 +139,8 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, usi
     for f in 0..frames {
         let t = Instant::now();
         for (&id, p) in ids.iter().zip(&case.frames[f % 2]) {
-            s.update_positions(id, 0, Positions::from_points(p)).unwrap();
+            s.update_positions(id, 0, Positions::from_points(p))
+                .unwrap();
         }
         let q = Instant::now();
         pairs = s.query_all().unwrap().len();
@@ -159,8 +168,15 @@ fn main() {
         for rel in [0.0, 1e-3] {
             for threads in [1, 2] {
                 let (t, q, n) = run(case, rel * case.extent, threads, frames);
-                let eps = if rel == 0.0 { "0".to_string() } else { "1e-3 extent".to_string() };
-                println!("| {} | {eps} | {threads} | {t:.2} | {q:.2} | {n} |", case.name);
+                let eps = if rel == 0.0 {
+                    "0".to_string()
+                } else {
+                    "1e-3 extent".to_string()
+                };
+                println!(
+                    "| {} | {eps} | {threads} | {t:.2} | {q:.2} | {n} |",
+                    case.name
+                );
             }
         }
     }

@@ -16,6 +16,11 @@
 //!   (boxes, exact predicates, the narrow tests).
 
 #![warn(missing_docs)]
+// Doc links from public items into the private modules document the design for readers of
+// the source (`cargo doc --document-private-items`); the public docs stand without them.
+#![allow(rustdoc::private_intra_doc_links)]
+#![deny(unsafe_op_in_unsafe_fn)]
+#![warn(clippy::undocumented_unsafe_blocks)]
 
 mod backend;
 mod bvh;
@@ -41,6 +46,6 @@ pub mod internals {
     pub use crate::backend::{
         create, CpuSelector, Engine, GlComputeSelector, GlSelectSelector, Request, Selector,
     };
-    pub use crate::geom::{adjacent, predicates, tritri, Aabb};
+    pub use crate::geom::{adjacent, contact, predicates, tritri, Aabb};
     pub use crate::gpu::{buffer, compat, Gl, MIN_RELATIVE_EPSILON};
 }

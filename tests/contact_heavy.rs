@@ -4,8 +4,8 @@
 //! query's, both as CPU time of this thread measured in the same process (no timing is
 //! asserted). `cargo test --release --test contact_heavy -- --nocapture`.
 
-use glcollide::geom::contact::{contact_geometry, ContactGeometry};
-use glcollide::geom::tritri::triangles_intersect;
+use glcollide::internals::contact::{contact_geometry, ContactGeometry};
+use glcollide::internals::tritri::triangles_intersect;
 use glcollide::{Positions, Scene, SceneConfig};
 use std::hint::black_box;
 use std::time::Instant;
@@ -94,6 +94,7 @@ fn heavy_case_every_pair() {
         let mut scene = Scene::new(SceneConfig {
             epsilon: eps,
             max_polygons_per_box: 0,
+            threads: 1,
         })
         .unwrap();
         let ia = scene

@@ -162,7 +162,7 @@ fn thousands_of_scenes_and_meshes_do_not_grow_memory() {
     for _ in 0..500 {
         let mut s = SafeScene::new(0.0, 4);
         let ids: Vec<u32> = meshes.iter().map(|m| s.add(m)).collect();
-        assert_eq!(s.query(ids[0]).is_empty(), false);
+        assert!(!s.query(ids[0]).is_empty());
         for id in ids {
             s.destroy(id);
         }
@@ -172,7 +172,7 @@ fn thousands_of_scenes_and_meshes_do_not_grow_memory() {
 
 #[test]
 fn one_long_lived_scene_does_not_grow_with_mesh_churn() {
-    let meshes = vec![grid(4, 3, 0.0), grid(3, 4, 0.3)];
+    let meshes = [grid(4, 3, 0.0), grid(3, 4, 0.3)];
     let mut s = FfiScene::new(GlcolBackend::Cpu, 0.0, 8);
     let keep = s.add(&meshes[0]);
     // Warm-up: the scene's query workspace reaches its size.

@@ -84,9 +84,8 @@ fn plane_sides_are_right_whenever_certain() {
                 }
                 let a = r.f();
                 let off = sc * 2f64.powi(-((r.u() % 80) as i32));
-                for k in 0..3 {
-                    t[2][k] = f(t[0][k] + a * (t[1][k] - t[0][k]) + (r.f() - 0.5) * off);
-                }
+                let (t0, t1) = (t[0], t[1]);
+                t[2] = [0, 1, 2].map(|k| f(t0[k] + a * (t1[k] - t0[k]) + (r.f() - 0.5) * off));
                 for v in u.iter_mut() {
                     let (a, b) = (r.f() * 3.0 - 1.0, r.f() * 3.0 - 1.0);
                     for k in 0..3 {

@@ -1574,8 +1574,8 @@ mod tests {
             [0, 1, 2].map(|k| s * d[k] + a * e[k] + b * f[k])
         };
         let mut v = [[0.0; 3]; 6];
-        for k in 1..6 {
-            v[k] = w(r);
+        for p in &mut v[1..] {
+            *p = w(r);
         }
         if r.below(3) == 0 {
             v[3] = lerp(v[0], v[1], r.range(0.2, 1.5)); // exactly on a needle's line

@@ -87,7 +87,7 @@ pub fn triangles_meet(t: &[P; 3], u: &[P; 3]) -> bool {
         }
     }
     let n = d.len();
-    if d.iter().any(|p| *p == O) {
+    if d.contains(&O) {
         return true;
     }
     for a in 0..n {
