@@ -88,7 +88,7 @@ impl<'a> Positions<'a> {
     }
 
     /// Bytes of one tightly packed vertex (three `f32`): the stride a stride of 0 means.
-    pub const PACKED_STRIDE: usize = 12;
+    pub(crate) const PACKED_STRIDE: usize = 12;
 
     /// A stride as the APIs take it: 0 means tightly packed ([`Self::PACKED_STRIDE`]).
     pub const fn stride_or_packed(stride: usize) -> usize {
