@@ -65,7 +65,11 @@ pub struct Scene {
     pairs_scratch: Vec<Pair>,
     /// Worker threads (None: the calling thread only), started once, asleep between
     /// queries; one CPU engine and one self-collision scratch per worker.
+    /// Started by the first query that has work for them (a scene that never asks a
+    /// whole-scene query starts no thread).
     pool: Option<rayon::ThreadPool>,
+    /// Worker threads wanted (1: the calling thread only).
+    threads: usize,
     workers: Vec<Mutex<Worker>>,
     broad: BroadPhase,
     /// Which answer [`Scene::contact_geometry`] describes (`None` before any query, after a
@@ -115,22 +119,6 @@ impl Scene {
             0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
             n => n as usize,
         };
-        let pool = if threads > 1 {
-            Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .thread_name(|i| format!("glcollide-{i}"))
-                    .build()
-                    .map_err(|e| {
-                        Error::new(
-                            ErrorKind::OutOfMemory,
-                            format!("could not start {threads} worker threads: {e}"),
-                        )
-                    })?,
-            )
-        } else {
-            None
-        };
         Ok(Scene {
             config,
             meshes: BTreeMap::new(),
@@ -140,7 +128,8 @@ impl Scene {
             scratch: Vec::new(),
             pairs: Vec::new(),
             pairs_scratch: Vec::new(),
-            pool,
+            threads,
+            pool: None,
             workers: (0..threads.max(1)).map(|_| Mutex::default()).collect(),
             broad: BroadPhase::default(),
             last: LastQuery::None,
@@ -347,7 +336,28 @@ impl Scene {
         Ok(&self.pairs)
     }
 
+    /// Starts the worker threads if the scene wants them and they are not running yet.
+    fn start_workers(&mut self) -> Result<()> {
+        if self.threads > 1 && self.pool.is_none() {
+            let threads = self.threads;
+            self.pool = Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .thread_name(|i| format!("glcollide-{i}"))
+                    .build()
+                    .map_err(|e| {
+                        Error::new(
+                            ErrorKind::OutOfMemory,
+                            format!("could not start {threads} worker threads: {e}"),
+                        )
+                    })?,
+            );
+        }
+        Ok(())
+    }
+
     fn query_all_inner(&mut self) -> Result<()> {
+        self.start_workers()?;
         let h = f64::from(self.config.epsilon) / 2.0;
         let list: Vec<SceneMesh<'_>> = self
             .meshes
@@ -509,6 +519,9 @@ impl Scene {
                     ));
                 }
             }
+        }
+        if items.len() > 256 {
+            self.start_workers()?;
         }
         let mut out = Vec::new();
         try_reserve(&mut out, items.len(), "the contact geometry")?;
