@@ -113,7 +113,8 @@ pub fn shares_vertex(a_idx: &[u32], b_idx: &[u32]) -> bool {
 ///
 /// # Panics
 ///
-/// When `na` or `nb` is not 1 or 2, or an index slice is shorter than `n + 2`.
+/// When `na` or `nb` is not 1 or 2, or an index slice's length is not `na + 2`
+/// (`nb + 2`).
 pub fn adjacent_polygons_meet(
     a_idx: &[u32],
     a_tris: &[[P3; 3]; 2],
@@ -156,7 +157,12 @@ impl Polygon {
             pos: [tris[0][0], tris[0][1], tris[0][2], tris[0][2]],
             n,
         };
-        p.idx[..n].copy_from_slice(&idx[..n]);
+        assert_eq!(
+            idx.len(),
+            n,
+            "a polygon with {ntri} triangles has {n} vertices"
+        );
+        p.idx[..n].copy_from_slice(idx);
         if n == 4 {
             p.pos[3] = tris[1][2];
         }
@@ -1919,5 +1925,73 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn sharing_is_by_index() {
+        assert!(shares_vertex(&[0, 1, 2], &[2, 3, 4]));
+        assert!(!shares_vertex(&[0, 1, 2], &[3, 4, 5, 6]));
+    }
+
+    /// Through a real mesh: its polygons index per-leaf slots, so adjacency must go by the
+    /// caller's vertex indices (`slot_vertices`). A flat sheet has no meeting neighbours;
+    /// folding one corner onto the next triangle makes that pair meet.
+    #[test]
+    fn through_a_mesh() {
+        use crate::mesh::{Mesh, Positions};
+        let n = 6usize;
+        let mut pos: Vec<[f32; 3]> = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                pos.push([i as f32, j as f32, 0.0]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut idx = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                idx.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                idx.extend([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let reported = |pos: &[[f32; 3]]| {
+            let mesh = Mesh::new(Positions::from_points(pos), &idx, 3, 4).expect("valid mesh");
+            assert!(
+                mesh.leaf_count() > 1,
+                "vertices are split over several leaves"
+            );
+            let verts = |p: usize| -> Vec<u32> {
+                mesh.poly(p)
+                    .iter()
+                    .map(|&s| mesh.slot_vertices()[s as usize])
+                    .collect()
+            };
+            let mut out = Vec::new();
+            let mut tris = [[[0.0; 3]; 3]; 2];
+            let mut uris = [[[0.0; 3]; 3]; 2];
+            for x in 0..mesh.polygon_count() {
+                for y in x + 1..mesh.polygon_count() {
+                    let (vx, vy) = (verts(x), verts(y));
+                    if !shares_vertex(&vx, &vy) {
+                        continue;
+                    }
+                    let nx = mesh.triangles(x, &mut tris);
+                    let ny = mesh.triangles(y, &mut uris);
+                    if adjacent_polygons_meet(&vx, &tris, nx, &vy, &uris, ny) {
+                        let (a, b) = (mesh.polygon_ids()[x], mesh.polygon_ids()[y]);
+                        out.push((a.min(b), a.max(b)));
+                    }
+                }
+            }
+            out.sort_unstable();
+            out
+        };
+        assert_eq!(reported(&pos), vec![]);
+        // Fold the far corner of the last cell's first triangle flat onto its second.
+        let last = id(n, n - 1) as usize;
+        pos[last] = [n as f32 - 0.8, n as f32 - 0.1, 0.0];
+        let r = reported(&pos);
+        let (t0, t1) = ((2 * n * n - 2) as u32, (2 * n * n - 1) as u32);
+        assert!(r.contains(&(t0, t1)), "{r:?}");
     }
 }
