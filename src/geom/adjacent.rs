@@ -831,33 +831,6 @@ mod tests {
 
     use super::*;
 
-    /// Exact construction of the meeting set, in integers.
-    ///
-    /// All coordinates of a case are scaled by one power of two into integers (exact:
-    /// every `f64` is an integer times a power of two, and a common scale changes nothing
-    /// about incidence or order). Constructed points are rational, kept as `P / w` with an
-    /// integer vector `P` and an integer `w > 0`, so every test is an exact integer sign.
-    ///
-    /// For closed convex polytopes `t` and `u`, every vertex `v` of `C = t ∩ u` lies in the
-    /// relative interiors of one face `F` of `t` and one `G` of `u`, and near `v` the set
-    /// `C` is `aff F ∩ aff G`; `v` being extreme, `aff F ∩ aff G = {v}`. The faces of a
-    /// triangle given by three points are among: the points, the segments between two of
-    /// them, the triangle itself (when proper). Pairs whose hulls meet in exactly one point
-    /// are a point and anything, two coplanar non-parallel lines, or a line and a plane it
-    /// crosses. So `C` is the convex hull of those candidate points that lie in both closed
-    /// triangles (all of them are in `C`, and every vertex of `C` is one). Two shortcuts,
-    /// both exact: a line/plane candidate is needed only when the edge's ends are strictly
-    /// on either side of the plane (`v` is inside `F`; an end on the plane is a point
-    /// candidate), and line/line candidates only when a triangle is degenerate or both are
-    /// in one plane (for proper triangles in different planes, `F` or `G` is not in the
-    /// other's plane, else both lie on the planes' common line and are parallel, and then
-    /// `v` is also that edge's line/plane candidate).
-    ///
-    /// `C` is then a point, a segment (the extreme candidates along its direction) or has
-    /// area. It is inside the joint `S` iff: a point lying in `S`; a segment covered by the
-    /// shared edges collinear with it (an interval sweep of their parameters; the other
-    /// pieces of `S` meet its line in finitely many points, which cannot fill a gap); never
-    /// when it has area.
     /// Integer arithmetic for the oracle: `BigInt`, or `i128` that flags an overflow.
     pub trait Int: Sized {
         fn one() -> Self;
@@ -1306,8 +1279,36 @@ mod tests {
         };
     }
 
-    /// The oracle (see the module doc of [`big`]), in `i128` when nothing overflows there,
-    /// else in `BigInt`.
+    /// Exact construction of the meeting set, in integers.
+    ///
+    /// All coordinates of a case are scaled by one power of two into integers (exact:
+    /// every `f64` is an integer times a power of two, and a common scale changes nothing
+    /// about incidence or order). Constructed points are rational, kept as `P / w` with an
+    /// integer vector `P` and an integer `w > 0`, so every test is an exact integer sign.
+    ///
+    /// For closed convex polytopes `t` and `u`, every vertex `v` of `C = t ∩ u` lies in the
+    /// relative interiors of one face `F` of `t` and one `G` of `u`, and near `v` the set
+    /// `C` is `aff F ∩ aff G`; `v` being extreme, `aff F ∩ aff G = {v}`. The faces of a
+    /// triangle given by three points are among: the points, the segments between two of
+    /// them, the triangle itself (when proper). Pairs whose hulls meet in exactly one point
+    /// are a point and anything, two coplanar non-parallel lines, or a line and a plane it
+    /// crosses. So `C` is the convex hull of those candidate points that lie in both closed
+    /// triangles (all of them are in `C`, and every vertex of `C` is one). Two shortcuts,
+    /// both exact: a line/plane candidate is needed only when the edge's ends are strictly
+    /// on either side of the plane (`v` is inside `F`; an end on the plane is a point
+    /// candidate), and line/line candidates only when a triangle is degenerate or both are
+    /// in one plane (for proper triangles in different planes, `F` or `G` is not in the
+    /// other's plane, else both lie on the planes' common line and are parallel, and then
+    /// `v` is also that edge's line/plane candidate).
+    ///
+    /// `C` is then a point, a segment (the extreme candidates along its direction) or has
+    /// area. It is inside the joint `S` iff: a point lying in `S`; a segment covered by the
+    /// shared edges collinear with it (an interval sweep of their parameters; the other
+    /// pieces of `S` meet its line in finitely many points, which cannot fill a gap); never
+    /// when it has area.
+    ///
+    /// Computed in `i128` when no operation overflows there (every one is checked), else
+    /// in `BigInt`.
     pub mod oracle {
         use super::OVERFLOW;
         use crate::geom::P3;
