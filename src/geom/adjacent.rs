@@ -73,16 +73,20 @@
 //!
 //! * triangles sharing a shared edge `{i, j}` whose third vertex `w` of `u` is off `t`'s
 //!   plane: `C` is the edge itself (both triangles are proper, and `t` meets the planes'
-//!   common line only along its edge). One `orient3d`.
+//!   common line only along its edge). One `orient3d`. In one plane (flat cloth), with the
+//!   third vertices strictly on either side of the edge: the edge again, two `orient2d`
+//!   more.
 //! * triangles sharing one vertex `p` where the other vertices of one lie strictly on one
 //!   side of the other's plane: `C = {p}`. Two to four `orient3d`.
-//! * two *triangle* polygons sharing one vertex `p`, proper and not coplanar: rule 1 with
-//!   the whole triangles as the pieces: `C ≠ {p}` iff the edge opposite `p` in one meets
-//!   the other. A few more `orient3d`.
+//! * triangles sharing one vertex `p`, proper and not coplanar: rule 1 with the whole
+//!   triangles as the pieces: `C ≠ {p}` iff the edge opposite `p` in one meets the other.
+//!   A few more `orient3d`.
+//! * proper triangles in one plane sharing one vertex `p`: their sectors at `p` share a
+//!   ray iff `C ≠ {p}`; eight `orient2d`.
 //!
-//! A fast path only ever concludes "covered" from a subset of the joint, which stays true
-//! for the whole joint, or answers for two triangles, whose joint it knows exactly;
-//! everything else goes to the general rule.
+//! A fast path concludes "covered" from a part of the joint, which stays true for the
+//! whole joint; it concludes "not covered" from "`C ≠ {p}`" only for two triangle
+//! polygons, whose joint is then exactly `{p}`. Everything else goes to the general rule.
 
 use super::predicates::{collinear, drop_axis, orient2d, orient3d, P3};
 use super::tritri::{segments_intersect, triangles_intersect};
@@ -104,11 +108,13 @@ pub fn shares_vertex(a_idx: &[u32], b_idx: &[u32]) -> bool {
 /// vertex indices (for a [`crate::mesh::Mesh`], `slot_vertices()[slot]`), not the per-leaf
 /// slot indices of `Mesh::poly`, under which one vertex has a slot per leaf.
 ///
-/// Polygons that share no vertex get the plain answer "do they intersect".
+/// Polygons that share no vertex get the plain answer "do they intersect". Coordinates
+/// must be finite (as a mesh's are); a shared index's position is taken from `a`.
 ///
 /// # Panics
 ///
-/// When `na` or `nb` is not 1 or 2, or an index slice is shorter than `n + 2`.
+/// When `na` or `nb` is not 1 or 2, or an index slice's length is not `na + 2`
+/// (`nb + 2`).
 pub fn adjacent_polygons_meet(
     a_idx: &[u32],
     a_tris: &[[P3; 3]; 2],
@@ -151,7 +157,12 @@ impl Polygon {
             pos: [tris[0][0], tris[0][1], tris[0][2], tris[0][2]],
             n,
         };
-        p.idx[..n].copy_from_slice(&idx[..n]);
+        assert_eq!(
+            idx.len(),
+            n,
+            "a polygon with {ntri} triangles has {n} vertices"
+        );
+        p.idx[..n].copy_from_slice(idx);
         if n == 4 {
             p.pos[3] = tris[1][2];
         }
@@ -205,61 +216,76 @@ struct Tri {
     p: [P3; 3],
 }
 
-/// The joint of two polygons: shared vertex positions, shared index pairs and the merged
+/// The shared edges of two polygons, as index pairs (all the fast paths need).
+#[derive(Clone, Copy, Debug)]
+struct SharedEdges {
+    e: [(u32, u32); 4],
+    n: usize,
+}
+
+impl SharedEdges {
+    fn of(a: &Polygon, b: &Polygon) -> SharedEdges {
+        let mut s = SharedEdges {
+            e: [(0, 0); 4],
+            n: 0,
+        };
+        for k in 0..a.n {
+            let (u, v) = a.edge(k);
+            if u != v && b.has_edge(u, v) && !s.has(u, v) {
+                s.e[s.n] = (u, v);
+                s.n += 1;
+            }
+        }
+        s
+    }
+
+    #[inline]
+    fn has(&self, u: u32, v: u32) -> bool {
+        self.e[..self.n]
+            .iter()
+            .any(|&(a, b)| (a == u && b == v) || (a == v && b == u))
+    }
+}
+
+/// The joint of two polygons as points: the shared vertices' positions and the merged
 /// intervals of the shared edges (see the module documentation).
 #[derive(Clone, Debug)]
 struct Joint {
     /// Positions of the shared vertices.
     pts: [P3; 4],
     n_pts: usize,
-    /// Shared edges as index pairs.
-    edges: [(u32, u32); 4],
-    n_edges: usize,
     /// Merged intervals: segments between two shared positions (never a single point).
     segs: [[P3; 2]; 4],
     n_segs: usize,
 }
 
 impl Joint {
-    fn of(a: &Polygon, b: &Polygon) -> Joint {
+    /// The positions are `a`'s (equal indices are one vertex, at one position).
+    fn of(a: &Polygon, b: &Polygon, edges: &SharedEdges) -> Joint {
         let mut j = Joint {
             pts: [[0.0; 3]; 4],
             n_pts: 0,
-            edges: [(0, 0); 4],
-            n_edges: 0,
             segs: [[[0.0; 3]; 2]; 4],
             n_segs: 0,
         };
         for k in 0..a.n {
             let i = a.idx[k];
-            if a.idx[..k].contains(&i) || !b.idx[..b.n].contains(&i) {
-                continue;
+            if !a.idx[..k].contains(&i) && b.idx[..b.n].contains(&i) {
+                j.pts[j.n_pts] = a.pos[k];
+                j.n_pts += 1;
             }
-            j.pts[j.n_pts] = a.pos[k];
-            j.n_pts += 1;
         }
-        for k in 0..a.n {
-            let (u, v) = a.edge(k);
-            if u == v || !b.has_edge(u, v) || j.is_edge(u, v) {
-                continue;
-            }
-            j.edges[j.n_edges] = (u, v);
-            j.n_edges += 1;
-            let (pu, pv) = (a.pos[k], a.pos[(k + 1) % a.n]);
-            if pu != pv {
-                j.segs[j.n_segs] = [pu, pv];
-                j.n_segs += 1;
+        for &(u, v) in &edges.e[..edges.n] {
+            let at = |i: u32| (0..a.n).find(|&k| a.idx[k] == i).map(|k| a.pos[k]);
+            if let (Some(pu), Some(pv)) = (at(u), at(v)) {
+                if pu != pv {
+                    j.segs[j.n_segs] = [pu, pv];
+                    j.n_segs += 1;
+                }
             }
         }
         j.merge();
         j
-    }
-
-    #[inline]
-    fn is_edge(&self, u: u32, v: u32) -> bool {
-        self.edges[..self.n_edges]
-            .iter()
-            .any(|&(a, b)| (a == u && b == v) || (a == v && b == u))
     }
 
     /// Replaces collinear shared edges that meet (overlap or touch) by their union, until
@@ -305,13 +331,19 @@ fn hull_on_line(p: &[P3]) -> [P3; 2] {
 }
 
 fn polygons_meet(a: &Polygon, b: &Polygon) -> bool {
-    let joint = Joint::of(a, b);
+    let edges = SharedEdges::of(a, b);
     // With two triangles the triangles' common vertices are the whole joint.
     let whole = a.n == 3 && b.n == 3;
+    let mut joint = None;
     for ka in 0..a.n - 2 {
         let t = a.tri(ka);
         for kb in 0..b.n - 2 {
-            if pair_meets(&t, &b.tri(kb), &joint, whole) {
+            let u = b.tri(kb);
+            let meets = match fast(&t, &u, &edges, whole) {
+                Some(r) => r,
+                None => general(&t, &u, joint.get_or_insert_with(|| Joint::of(a, b, &edges))),
+            };
+            if meets {
                 return true;
             }
         }
@@ -319,9 +351,10 @@ fn polygons_meet(a: &Polygon, b: &Polygon) -> bool {
     false
 }
 
-/// Is `t ∩ u` not inside the joint? `whole` says that the two triangles are the two
-/// polygons.
-fn pair_meets(t: &Tri, u: &Tri, joint: &Joint, whole: bool) -> bool {
+/// The fast paths for a triangle pair (see the module documentation): `Some(answer)` to
+/// "is `t ∩ u` not inside the joint?", `None` when they cannot tell. `whole` says that
+/// the two triangles are the two polygons.
+fn fast(t: &Tri, u: &Tri, edges: &SharedEdges, whole: bool) -> Option<bool> {
     let mut common = [0u32; 3];
     let mut nc = 0;
     for k in 0..3 {
@@ -331,15 +364,36 @@ fn pair_meets(t: &Tri, u: &Tri, joint: &Joint, whole: bool) -> bool {
             nc += 1;
         }
     }
-    if nc == 2 && joint.is_edge(common[0], common[1]) {
-        // A shared edge of both triangles. If the third vertex of `u` is off `t`'s plane,
-        // both are proper (`t` has an orientation, and `w` is off the edge's line, which
-        // lies in `t`'s plane), their planes differ, and `C` lies on the common line,
-        // which meets `t` along the edge only.
-        if let Some(k) = (0..3).find(|&k| !common[..2].contains(&u.i[k])) {
-            if orient3d(&t.p[0], &t.p[1], &t.p[2], &u.p[k]) != 0.0 {
-                return false;
-            }
+    if nc == 2 && edges.has(common[0], common[1]) {
+        // A shared edge `[p, q]` of both triangles. If the third vertex `w` of `u` is off
+        // `t`'s plane, both are proper (`t` has an orientation, and `w` is off the edge's
+        // line, which lies in `t`'s plane), their planes differ, and `C` lies on the
+        // common line, which meets `t` along the edge only.
+        let not_common = |x: &Tri| (0..3).find(|&k| !common[..2].contains(&x.i[k]));
+        let w = u.p[not_common(u)?];
+        if orient3d(&t.p[0], &t.p[1], &t.p[2], &w) != 0.0 {
+            return Some(false);
+        }
+        // In `t`'s plane (flat cloth): `t` proper, `w` strictly across the edge from `t`'s
+        // third vertex `v`. Then the closed half-planes of the edge's line hold one each,
+        // and `C` is the edge.
+        let v = t.p[not_common(t)?];
+        let ax = projection_axis(&t.p[0], &t.p[1], &t.p[2])?;
+        let at = |i: u32| {
+            (0..3)
+                .find(|&k| t.i[k] == i)
+                .map(|k| drop_axis(&t.p[k], ax))
+        };
+        let (p, q) = (at(common[0])?, at(common[1])?);
+        let sv = orient2d(p, q, drop_axis(&v, ax));
+        let sw = orient2d(p, q, drop_axis(&w, ax));
+        if (sv > 0.0 && sw < 0.0) || (sv < 0.0 && sw > 0.0) {
+            return Some(false);
+        }
+    } else if nc == 0 {
+        // No common vertex (a quad's other triangle): apart is the common answer.
+        if !triangles_intersect(&t.p, &u.p) {
+            return Some(false);
         }
     } else if nc == 1 {
         let c = common[0];
@@ -347,19 +401,56 @@ fn pair_meets(t: &Tri, u: &Tri, joint: &Joint, whole: bool) -> bool {
         // the common vertex only, so `C` is that vertex.
         let ou = sides(t, u, c);
         if ou.one_side() {
-            return false;
+            return Some(false);
         }
         let ot = sides(u, t, c);
         if ot.one_side() {
-            return false;
+            return Some(false);
         }
-        if whole {
-            if let Some(r) = vertex_rule(&ou, &ot, t, u) {
-                return r;
-            }
+        // "More than `p`" answers the pair only when `p` is the whole joint.
+        let r = if ou.n == 2 && ou.o[0] == 0.0 && ou.o[1] == 0.0 {
+            coplanar_vertex(t, u, c)
+        } else {
+            vertex_rule(&ou, &ot, t, u)
+        };
+        match r {
+            Some(false) => return Some(false),
+            Some(true) if whole => return Some(true),
+            _ => {}
         }
     }
-    general(t, u, joint)
+    None
+}
+
+/// Two triangles in one plane, sharing the single vertex index `c` (position `p`): does
+/// `t ∩ u` hold more than `p`? `None` when one of them is not proper. Near `p` each is
+/// its sector at `p`, a convex cone of angle below π, and `C` is convex, so `C ≠ {p}` iff
+/// the sectors share a ray; then a bounding ray of their intersection bounds one of them
+/// and lies in the other. So: is an edge direction at `p` of one inside the other's
+/// sector? Eight `orient2d`.
+fn coplanar_vertex(t: &Tri, u: &Tri, c: u32) -> Option<bool> {
+    let ax = projection_axis(&t.p[0], &t.p[1], &t.p[2])?;
+    let q = |x: &P3| drop_axis(x, ax);
+    // The common vertex first, then the other two.
+    let corner = |x: &Tri| -> Option<[[f64; 2]; 3]> {
+        let k = (0..3).find(|&k| x.i[k] == c)?;
+        Some([q(&x.p[k]), q(&x.p[(k + 1) % 3]), q(&x.p[(k + 2) % 3])])
+    };
+    let (ct, cu) = (corner(t)?, corner(u)?);
+    let (st, su) = (orient2d(ct[0], ct[1], ct[2]), orient2d(cu[0], cu[1], cu[2]));
+    if st == 0.0 || su == 0.0 {
+        return None;
+    }
+    // Direction `x - p` in the sector `(p, a, b)` of orientation `s`.
+    let inside = |x: [f64; 2], k: &[[f64; 2]; 3], s: f64| {
+        orient2d(k[0], k[1], x) * s >= 0.0 && orient2d(k[0], x, k[2]) * s >= 0.0
+    };
+    Some(
+        inside(cu[1], &ct, st)
+            || inside(cu[2], &ct, st)
+            || inside(ct[1], &cu, su)
+            || inside(ct[2], &cu, su),
+    )
 }
 
 /// Orientations of the vertices of `u` other than index `c` against `t`'s plane.
@@ -400,10 +491,12 @@ fn sides(t: &Tri, u: &Tri, c: u32) -> Sides {
     s
 }
 
-/// Two triangle polygons sharing the single vertex `c` (joint `{p}`): when one has its two
-/// other vertices strictly on either side of the other's plane and the other is proper,
-/// `p` is a corner of each, and `C ≠ {p}` iff the edge opposite `p` in one meets the other (rule 1
-/// with the triangles as the pieces). `None`: not that case.
+/// Two triangles sharing the single vertex index `c` (position `p`), with the orientations
+/// `ou` of `u`'s other vertices against `t`'s plane and `ot` the other way: does `t ∩ u`
+/// hold more than `p`? When one has its two other vertices strictly on either side of the
+/// other's plane and the other is proper, both are proper, `p` is a corner of each, and
+/// the answer is whether the edge opposite `p` in one meets the other (rule 1 with the
+/// triangles as the pieces). `None`: not that case.
 fn vertex_rule(ou: &Sides, ot: &Sides, t: &Tri, u: &Tri) -> Option<bool> {
     // Straddling makes the plane's triangle proper; a vertex off the other plane makes the
     // other proper (straddling alone does not: `p` may lie between the two).
@@ -458,11 +551,32 @@ fn shape(t: &[P3; 3]) -> Shape {
     Shape::Segment(a, b)
 }
 
-/// A coordinate plane on which the proper triangle `(a, b, c)` projects with area.
-fn projection_axis(a: &P3, b: &P3, c: &P3) -> usize {
-    (0..3)
+/// A coordinate plane on which the triangle `(a, b, c)` projects with area (one-to-one on
+/// its plane); `None` when it is degenerate. The axis of the largest component of a
+/// floating-point normal is tried first, as a guess only: the exact `orient2d` decides.
+fn projection_axis(a: &P3, b: &P3, c: &P3) -> Option<usize> {
+    let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let f = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [
+        (e[1] * f[2] - e[2] * f[1]).abs(),
+        (e[2] * f[0] - e[0] * f[2]).abs(),
+        (e[0] * f[1] - e[1] * f[0]).abs(),
+    ];
+    let first = if n[0] >= n[1] && n[0] >= n[2] {
+        0
+    } else if n[1] >= n[2] {
+        1
+    } else {
+        2
+    };
+    [first, (first + 1) % 3, (first + 2) % 3]
+        .into_iter()
         .find(|&ax| orient2d(drop_axis(a, ax), drop_axis(b, ax), drop_axis(c, ax)) != 0.0)
-        .unwrap_or(2)
+}
+
+/// [`projection_axis`] of a triangle known to be proper (which always has one).
+fn proper_axis(a: &P3, b: &P3, c: &P3) -> usize {
+    projection_axis(a, b, c).unwrap_or(2)
 }
 
 /// Closed segment `a`-`b` (possibly a point) contains `s`.
@@ -480,7 +594,7 @@ fn contains(t: &[P3; 3], sh: Shape, s: &P3) -> bool {
             if orient3d(&t[0], &t[1], &t[2], s) != 0.0 {
                 return false;
             }
-            let ax = projection_axis(&t[0], &t[1], &t[2]);
+            let ax = proper_axis(&t[0], &t[1], &t[2]);
             let q = |p: &P3| drop_axis(p, ax);
             let o = [
                 orient2d(q(&t[0]), q(&t[1]), q(s)),
@@ -584,7 +698,7 @@ fn leaves_along(t: &[P3; 3], sh: Shape, m: &P3, o: &P3) -> bool {
             if orient3d(m, &a, &b, o) != 0.0 {
                 return false;
             }
-            let ax = projection_axis(m, &a, &b);
+            let ax = proper_axis(m, &a, &b);
             let q = |p: &P3| drop_axis(p, ax);
             let w = orient2d(q(m), q(&a), q(&b));
             // cross(a - m, m - o) = -orient2d(m, a, o); cross(m - o, b - m) = -orient2d(m, o, b).
@@ -647,7 +761,7 @@ fn general(t: &Tri, u: &Tri, joint: &Joint) -> bool {
 
 /// Two proper triangles in one plane that meet: is `t ∩ u` not inside the joint?
 fn coplanar(t: &[P3; 3], u: &[P3; 3], joint: &Joint) -> bool {
-    let ax = projection_axis(&t[0], &t[1], &t[2]);
+    let ax = proper_axis(&t[0], &t[1], &t[2]);
     let q = |p: &P3| drop_axis(p, ax);
     // Both counter-clockwise in the projection (which is one-to-one on the plane).
     let ccw = |x: &[P3; 3]| -> [P3; 3] {
@@ -717,33 +831,6 @@ mod tests {
 
     use super::*;
 
-    /// Exact construction of the meeting set, in integers.
-    ///
-    /// All coordinates of a case are scaled by one power of two into integers (exact:
-    /// every `f64` is an integer times a power of two, and a common scale changes nothing
-    /// about incidence or order). Constructed points are rational, kept as `P / w` with an
-    /// integer vector `P` and an integer `w > 0`, so every test is an exact integer sign.
-    ///
-    /// For closed convex polytopes `t` and `u`, every vertex `v` of `C = t ∩ u` lies in the
-    /// relative interiors of one face `F` of `t` and one `G` of `u`, and near `v` the set
-    /// `C` is `aff F ∩ aff G`; `v` being extreme, `aff F ∩ aff G = {v}`. The faces of a
-    /// triangle given by three points are among: the points, the segments between two of
-    /// them, the triangle itself (when proper). Pairs whose hulls meet in exactly one point
-    /// are a point and anything, two coplanar non-parallel lines, or a line and a plane it
-    /// crosses. So `C` is the convex hull of those candidate points that lie in both closed
-    /// triangles (all of them are in `C`, and every vertex of `C` is one). Two shortcuts,
-    /// both exact: a line/plane candidate is needed only when the edge's ends are strictly
-    /// on either side of the plane (`v` is inside `F`; an end on the plane is a point
-    /// candidate), and line/line candidates only when a triangle is degenerate or both are
-    /// in one plane (for proper triangles in different planes, `F` or `G` is not in the
-    /// other's plane, else both lie on the planes' common line and are parallel, and then
-    /// `v` is also that edge's line/plane candidate).
-    ///
-    /// `C` is then a point, a segment (the extreme candidates along its direction) or has
-    /// area. It is inside the joint `S` iff: a point lying in `S`; a segment covered by the
-    /// shared edges collinear with it (an interval sweep of their parameters; the other
-    /// pieces of `S` meet its line in finitely many points, which cannot fill a gap); never
-    /// when it has area.
     /// Integer arithmetic for the oracle: `BigInt`, or `i128` that flags an overflow.
     pub trait Int: Sized {
         fn one() -> Self;
@@ -1192,8 +1279,36 @@ mod tests {
         };
     }
 
-    /// The oracle (see the module doc of [`big`]), in `i128` when nothing overflows there,
-    /// else in `BigInt`.
+    /// Exact construction of the meeting set, in integers.
+    ///
+    /// All coordinates of a case are scaled by one power of two into integers (exact:
+    /// every `f64` is an integer times a power of two, and a common scale changes nothing
+    /// about incidence or order). Constructed points are rational, kept as `P / w` with an
+    /// integer vector `P` and an integer `w > 0`, so every test is an exact integer sign.
+    ///
+    /// For closed convex polytopes `t` and `u`, every vertex `v` of `C = t ∩ u` lies in the
+    /// relative interiors of one face `F` of `t` and one `G` of `u`, and near `v` the set
+    /// `C` is `aff F ∩ aff G`; `v` being extreme, `aff F ∩ aff G = {v}`. The faces of a
+    /// triangle given by three points are among: the points, the segments between two of
+    /// them, the triangle itself (when proper). Pairs whose hulls meet in exactly one point
+    /// are a point and anything, two coplanar non-parallel lines, or a line and a plane it
+    /// crosses. So `C` is the convex hull of those candidate points that lie in both closed
+    /// triangles (all of them are in `C`, and every vertex of `C` is one). Two shortcuts,
+    /// both exact: a line/plane candidate is needed only when the edge's ends are strictly
+    /// on either side of the plane (`v` is inside `F`; an end on the plane is a point
+    /// candidate), and line/line candidates only when a triangle is degenerate or both are
+    /// in one plane (for proper triangles in different planes, `F` or `G` is not in the
+    /// other's plane, else both lie on the planes' common line and are parallel, and then
+    /// `v` is also that edge's line/plane candidate).
+    ///
+    /// `C` is then a point, a segment (the extreme candidates along its direction) or has
+    /// area. It is inside the joint `S` iff: a point lying in `S`; a segment covered by the
+    /// shared edges collinear with it (an interval sweep of their parameters; the other
+    /// pieces of `S` meet its line in finitely many points, which cannot fill a gap); never
+    /// when it has area.
+    ///
+    /// Computed in `i128` when no operation overflows there (every one is checked), else
+    /// in `BigInt`.
     pub mod oracle {
         use super::OVERFLOW;
         use crate::geom::P3;
@@ -1622,5 +1737,262 @@ mod tests {
     #[test]
     fn sliver_fans_match_the_oracle() {
         family("slivers", 0x7777_1111_9999_4444, 60_000, sliver_case);
+    }
+
+    /// The predicate on polygons `a`, `b` over `pos`, checked against the oracle.
+    fn meets(a: &[u32], b: &[u32], pos: &[P3]) -> bool {
+        let c = Case::new(a, b, pos);
+        let r = c.predicate(true);
+        assert_eq!(r, c.oracle(), "oracle disagrees on {c:?}");
+        r
+    }
+
+    #[test]
+    fn named_cases() {
+        let f = |x: f64| x as f32 as f64;
+        // Cloth: flat neighbours, and folded by a tiny angle (they meet along the edge only:
+        // a fold meets the neighbour's face only when exactly flat onto it).
+        let mut pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.3, 1.0, 0.0],
+            [0.6, -1.0, 0.0],
+        ];
+        assert!(!meets(&[0, 1, 2], &[1, 0, 3], &pos));
+        pos[3] = [0.6, 1.0, f(1e-7)];
+        assert!(!meets(&[0, 1, 2], &[1, 0, 3], &pos));
+        pos[3] = [0.6, 1.0, 0.0];
+        assert!(
+            meets(&[0, 1, 2], &[1, 0, 3], &pos),
+            "folded flat onto the neighbour"
+        );
+        // Sharing a vertex: apart, the next triangle's edge pushed through, pinched flat.
+        let mut pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, 0.0, 0.5],
+            [0.0, -1.0, 0.5],
+        ];
+        assert!(!meets(&[0, 1, 2], &[0, 3, 4], &pos));
+        pos[3] = [0.3, 0.3, -0.5];
+        pos[4] = [0.3, 0.3, 0.5];
+        assert!(
+            meets(&[0, 1, 2], &[0, 3, 4], &pos),
+            "edge through the neighbour"
+        );
+        pos[3] = [-1.0, 0.0, 0.0];
+        pos[4] = [0.0, -1.0, 0.0];
+        assert!(
+            !meets(&[0, 1, 2], &[0, 3, 4], &pos),
+            "opposite sectors touch at the vertex"
+        );
+        pos[4] = [1.0, 1.0, 0.0];
+        assert!(meets(&[0, 1, 2], &[0, 3, 4], &pos), "overlapping sectors");
+        // A quad's diagonal is not an edge: a triangle on it meets the quad along it.
+        let pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.5, 0.5, 1.0],
+            [0.5, -1.0, 0.0],
+        ];
+        assert!(meets(&[0, 1, 2, 3], &[2, 0, 4], &pos), "on the diagonal");
+        assert!(!meets(&[0, 1, 2, 3], &[1, 0, 5], &pos), "on an edge");
+        assert!(
+            !meets(&[0, 1, 2, 3], &[0, 4, 1], &pos),
+            "on an edge, folded up"
+        );
+        assert!(
+            !meets(&[0, 1, 2, 3], &[1, 0, 5, 4], &pos),
+            "two quads on an edge"
+        );
+        // Duplicates meet unless degenerate; a degenerate polygon on a shared edge does not.
+        let pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        assert!(meets(&[0, 1, 2], &[2, 1, 0], &pos));
+        assert!(!meets(&[0, 1, 3], &[3, 1, 0], &pos), "collinear duplicates");
+        assert!(
+            !meets(&[0, 1, 1], &[1, 0, 2], &pos),
+            "a segment on the shared edge"
+        );
+        // The same position under another index is not shared: meeting there counts.
+        let pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, -1.0, 1.0],
+        ];
+        assert!(meets(&[0, 1, 2], &[0, 3, 4], &pos));
+        // Collinear shared edges: quads (0, 1, 2, 3) and (2, 1, 0, 4) with 1 on 0-2 share
+        // the edges {0, 1} and {1, 2}; their union covers the segment 0-2 where they meet.
+        let pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, -1.0, 0.0],
+        ];
+        assert!(!meets(&[0, 1, 2, 3], &[2, 1, 0, 4], &pos));
+        assert!(meets(&[0, 1, 2, 3], &[2, 1, 0, 3], &pos), "same side");
+    }
+
+    /// Wavy cloth, `n` x `n` cells: vertex positions and polygons (two triangles or one
+    /// quad per cell).
+    fn cloth(n: usize, quads: bool) -> (Vec<P3>, Vec<Vec<u32>>) {
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut pos = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let (x, y) = (i as f64 * 0.01, j as f64 * 0.01);
+                let z = 0.02 * (x * 9.0).sin() * (y * 7.0).cos();
+                pos.push([x, y, z].map(|c| c as f32 as f64));
+            }
+        }
+        let mut polys = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                if quads {
+                    polys.push(vec![a, b, c, d]);
+                } else {
+                    polys.push(vec![a, b, c]);
+                    polys.push(vec![a, c, d]);
+                }
+            }
+        }
+        (pos, polys)
+    }
+
+    /// ns per call on the adjacent pairs of a wavy cloth (none meets). Not a test of
+    /// speed: run with `--ignored --nocapture` and read.
+    #[test]
+    #[ignore]
+    fn cloth_pair_timing() {
+        for quads in [false, true] {
+            let (pos, polys) = cloth(60, quads);
+            let prepared: Vec<(Vec<u32>, [[P3; 3]; 2], usize)> = polys
+                .iter()
+                .map(|p| {
+                    let v: Vec<P3> = p.iter().map(|&i| pos[i as usize]).collect();
+                    let (t, n) = Case::tris(&v);
+                    (p.clone(), t, n)
+                })
+                .collect();
+            let mut by_edge = Vec::new();
+            let mut by_vertex = Vec::new();
+            for x in 0..polys.len() {
+                // Neighbours are at most two rows of cells apart in this order.
+                for y in x + 1..polys.len().min(x + 2 * 60 + 4) {
+                    let shared = polys[x].iter().filter(|i| polys[y].contains(i)).count();
+                    match shared {
+                        0 => {}
+                        1 => by_vertex.push((x, y)),
+                        _ => by_edge.push((x, y)),
+                    }
+                }
+            }
+            for (name, pairs) in [("an edge", &by_edge), ("a vertex only", &by_vertex)] {
+                let run = || {
+                    pairs
+                        .iter()
+                        .filter(|&&(x, y)| {
+                            let (a, b) = (&prepared[x], &prepared[y]);
+                            adjacent_polygons_meet(&a.0, &a.1, a.2, &b.0, &b.1, b.2)
+                        })
+                        .count()
+                };
+                assert_eq!(run(), 0, "a wavy cloth does not fold onto itself");
+                // The fastest of many passes: the machine may be shared, and a pass that
+                // was not interrupted is the measure of the code.
+                let t0 = std::time::Instant::now();
+                let mut best = f64::INFINITY;
+                while t0.elapsed().as_secs_f64() < 1.0 {
+                    let t = std::time::Instant::now();
+                    std::hint::black_box(run());
+                    best = best.min(t.elapsed().as_secs_f64());
+                }
+                let ns = best * 1e9 / pairs.len() as f64;
+                let kind = if quads { "quads" } else { "triangles" };
+                println!(
+                    "{kind} sharing {name}: {} pairs, {ns:.1} ns per call",
+                    pairs.len()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn sharing_is_by_index() {
+        assert!(shares_vertex(&[0, 1, 2], &[2, 3, 4]));
+        assert!(!shares_vertex(&[0, 1, 2], &[3, 4, 5, 6]));
+    }
+
+    /// Through a real mesh: its polygons index per-leaf slots, so adjacency must go by the
+    /// caller's vertex indices (`slot_vertices`). A flat sheet has no meeting neighbours;
+    /// folding one corner onto the next triangle makes that pair meet.
+    #[test]
+    fn through_a_mesh() {
+        use crate::mesh::{Mesh, Positions};
+        let n = 6usize;
+        let mut pos: Vec<[f32; 3]> = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                pos.push([i as f32, j as f32, 0.0]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+        let mut idx = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                idx.extend([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                idx.extend([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let reported = |pos: &[[f32; 3]]| {
+            let mesh = Mesh::new(Positions::from_points(pos), &idx, 3, 4).expect("valid mesh");
+            assert!(
+                mesh.leaf_count() > 1,
+                "vertices are split over several leaves"
+            );
+            let verts = |p: usize| -> Vec<u32> {
+                mesh.poly(p)
+                    .iter()
+                    .map(|&s| mesh.slot_vertices()[s as usize])
+                    .collect()
+            };
+            let mut out = Vec::new();
+            let mut tris = [[[0.0; 3]; 3]; 2];
+            let mut uris = [[[0.0; 3]; 3]; 2];
+            for x in 0..mesh.polygon_count() {
+                for y in x + 1..mesh.polygon_count() {
+                    let (vx, vy) = (verts(x), verts(y));
+                    if !shares_vertex(&vx, &vy) {
+                        continue;
+                    }
+                    let nx = mesh.triangles(x, &mut tris);
+                    let ny = mesh.triangles(y, &mut uris);
+                    if adjacent_polygons_meet(&vx, &tris, nx, &vy, &uris, ny) {
+                        let (a, b) = (mesh.polygon_ids()[x], mesh.polygon_ids()[y]);
+                        out.push((a.min(b), a.max(b)));
+                    }
+                }
+            }
+            out.sort_unstable();
+            out
+        };
+        assert_eq!(reported(&pos), vec![]);
+        // Fold the far corner of the last cell's first triangle flat onto its second.
+        let last = id(n, n - 1) as usize;
+        pos[last] = [n as f32 - 0.8, n as f32 - 0.1, 0.0];
+        let r = reported(&pos);
+        let (t0, t1) = ((2 * n * n - 2) as u32, (2 * n * n - 1) as u32);
+        assert!(r.contains(&(t0, t1)), "{r:?}");
     }
 }
