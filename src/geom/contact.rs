@@ -286,13 +286,18 @@ fn general_position(a: &[P3; 3], b: &[P3; 3], su: [i8; 3], st: [i8; 3]) -> bool 
     };
     // a's lone vertex first (p1, q1, r1); when it is negative, b's q and r swap.
     let k1 = LONELY[neg(&st)];
-    let (p1, q1, r1) = (&a[k1], &a[NEXT[k1]], &a[PREV[k1]]);
-    let swap_b = st[k1] > 0;
+    let (p1, q1, r1) = (&a[k1 % 3], &a[NEXT[k1]], &a[PREV[k1]]);
+    let swap_b = st[k1 % 3] > 0;
     let order = if swap_b { [0, 2, 1] } else { [0, 1, 2] };
     let lb = [b[order[0]], b[order[1]], b[order[2]]];
     let sb = [su[order[0]], su[order[1]], su[order[2]]];
     // Then b's lone vertex first (p2, q2, r2); when it is negative, q1 and r1 swap.
     let k2 = LONELY[neg(&sb)];
+    if k1 == 3 || k2 == 3 {
+        // Not in general position after all (cannot happen: no sign is zero and neither
+        // triangle is on one side); the query's test decides.
+        return triangles_intersect_with(a, b, su, st);
+    }
     let (p2, q2, r2) = (&lb[k2], &lb[NEXT[k2]], &lb[PREV[k2]]);
     let (q1, r1) = if sb[k2] > 0 { (r1, q1) } else { (q1, r1) };
     // The paper's CHECK_MIN_MAX, as tritri::gd_check.
@@ -490,8 +495,8 @@ fn signed_like(mut d: [f64; 3], s: [i8; 3]) -> [f64; 3] {
 /// or the reverse: `c . (va_{i+2} - va_i) = -eb_j . na` and `c . (vb_{j+2} - vb_j) =
 /// ea_i . nb` of opposite signs. Other edge pairs are not facets, and the minimum over the
 /// facets is the penetration depth, so they are skipped; on a facet, the translation is
-/// the edges' offset `c . (vb_j - va_i)`, signed towards the facet's side. (A zero sign
-/// makes `c` a face normal, already tried.)
+/// the edges' offset `c . (vb_j - va_i)`, signed towards the facet's side. (When a sign is
+/// zero, an edge parallel to the other's plane, [`triangles_sat_all`] tries every axis.)
 #[inline(always)]
 fn triangles_sat(va: &[V; 3], vb: &[V; 3], na: &V, nb: &V, da: &[f64; 3], db: &[f64; 3]) -> Axis {
     let ea = [va[1] - va[0], va[2] - va[1], va[0] - va[2]];
@@ -635,8 +640,9 @@ fn pattern(d: &[f64; 3]) -> usize {
     usize::from(d[0] > 0.0) | usize::from(d[1] > 0.0) << 1 | usize::from(d[2] > 0.0) << 2
 }
 
-/// The ranking key `s |s| / |c|^2` of edge pair axis `c = e x f` with `w` from `e`'s start
-/// to `f`'s, `a3` the sign that orients it; infinite for a pair that is not a facet.
+/// The ranking key `s |s| / |c|^2` of the facet normal `c = e x f` (edges of a facet of
+/// the Minkowski difference), `w` from `e`'s start to `f`'s and `a3` the sign that orients
+/// it (a moves along `+c` when positive); infinite when `c` or `a3` is zero.
 #[inline(always)]
 fn edge_key(e: &V, f: &V, w: &V, a3: f64) -> f64 {
     let c = e.cross(f);
