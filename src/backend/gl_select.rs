@@ -341,7 +341,7 @@ fn select_batch(
     };
     for grp in &batch.groups {
         sc.load_candidates(q, batch, grp);
-        pass.size_select_buffer(sc);
+        pass.size_select_buffer(sc)?;
         for vi in grp.volumes.clone() {
             let v = batch.volumes[vi as usize];
             let at = (vi, grp.candidates.start);
@@ -387,9 +387,23 @@ struct Pass<'a> {
 }
 
 impl Pass<'_> {
-    /// A selection buffer with room for every candidate of the group, handed to the GL.
-    fn size_select_buffer(&self, sc: &mut Scratch) {
-        let need = sc.boxes.len() * self.record + 16;
+    /// A selection buffer with room for every candidate of the group, handed to the GL
+    /// (its size is a `GLsizei`: a group too large for it is refused, not wrapped).
+    fn size_select_buffer(&self, sc: &mut Scratch) -> Result<()> {
+        let n = sc.boxes.len();
+        let need = n
+            .checked_mul(self.record)
+            .and_then(|w| w.checked_add(16))
+            .filter(|&w| i32::try_from(w).is_ok())
+            .ok_or_else(|| {
+                Error::new(
+                    ErrorKind::Unsupported,
+                    format!(
+                        "a selection group of {n} candidates needs a selection buffer of more \
+                         than 2^31 words"
+                    ),
+                )
+            })?;
         if sc.select_buf.len() < need {
             sc.select_buf = vec![0; need];
         }
@@ -399,8 +413,9 @@ impl Pass<'_> {
         unsafe {
             self.gl
                 .ff()
-                .SelectBuffer(sc.select_buf.len() as i32, sc.select_buf.as_mut_ptr());
+                .SelectBuffer(need as i32, sc.select_buf.as_mut_ptr());
         }
+        Ok(())
     }
 
     /// Steps 1-4: the group's candidates drawn into the box `vb`; `at` is (volume index,
