@@ -2925,6 +2925,7 @@ mod tests {
             let mut scene = Scene::new(SceneConfig {
                 epsilon: eps,
                 max_polygons_per_box: 0,
+                threads: 1,
             })
             .unwrap();
             let ia = scene
