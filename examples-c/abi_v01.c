@@ -2,8 +2,8 @@
  * abi_v01: a program written against glcollide 0.1's header (examples-c/compat/
  * glcollide_v01.h, a verbatim copy of the 0.1 include/glcollide.h) must keep working with
  * the 0.2 library: its GlcolSceneDesc has no `threads` field, so its struct_size is 0.1's
- * size, which the library accepts with `threads` defaulted. Creates a scene with the old
- * struct, adds two meshes (the teapot, and a copy of it moved by a fraction of its size),
+ * size, which the library accepts with `threads` defaulted, and glcol_scene_desc_init
+ * (the exported symbol) fills that size, no more. Creates a scene with the old struct, adds two meshes (the teapot, and a copy of it moved by a fraction of its size),
  * queries, and checks every status.
  *
  *   abi_v01 MESH_DIR      (e.g. ../shared/meshes)
@@ -37,30 +37,28 @@ int main(int argc, char **argv) {
     memset(&obj, 0, sizeof obj);
     if (!check(glcol_obj_load(path, &obj), "obj_load")) return 1;
 
-    /* Known issue (reported, not fixed here): the 0.2 library's glcol_scene_desc_init
-       writes the 0.2 struct, 8 bytes more than a 0.1 GlcolSceneDesc holds (it cannot know
-       the caller's size). Measured with room behind the struct, then the struct is filled
-       field by field, as a 0.1 program may do, so this program never overflows. */
+    /* glcol_scene_desc_init, as a 0.1 program calls it, with guard bytes behind the 0.1
+       struct: it must write nothing past it and set 0.1's struct_size. */
     union {
         GlcolSceneDesc d;
         unsigned char room[sizeof(GlcolSceneDesc) + 64];
     } probe;
     memset(&probe, 0xA5, sizeof probe);
     glcol_scene_desc_init(&probe.d);
-    size_t past = 0;
     for (size_t i = sizeof(GlcolSceneDesc); i < sizeof probe.room; i++)
-        if (probe.room[i] != 0xA5) past = i + 1 - sizeof(GlcolSceneDesc);
-    if (past)
-        printf("NOTE glcol_scene_desc_init writes %zu byte(s) past a 0.1 GlcolSceneDesc\n", past);
-
-    GlcolSceneDesc sd;
-    memset(&sd, 0, sizeof sd);
-    sd.struct_size = sizeof(GlcolSceneDesc); /* 0.1's size: the program was built so */
+        if (probe.room[i] != 0xA5) {
+            printf("FAIL glcol_scene_desc_init wrote byte %zu of a %zu-byte 0.1 GlcolSceneDesc\n", i,
+                   sizeof(GlcolSceneDesc));
+            return 1;
+        }
+    if (probe.d.struct_size != sizeof(GlcolSceneDesc) || probe.d.backend != GLCOL_BACKEND_AUTO ||
+        probe.d.get_proc_address != NULL || probe.d.epsilon != 0.0f) {
+        printf("FAIL glcol_scene_desc_init: struct_size %u backend %d\n", probe.d.struct_size,
+               (int)probe.d.backend);
+        return 1;
+    }
+    GlcolSceneDesc sd = probe.d;
     sd.backend = GLCOL_BACKEND_CPU;
-    sd.get_proc_address = NULL;
-    sd.user_data = NULL;
-    sd.epsilon = 0.0f;
-    sd.max_polygons_per_box = 0;
     GlcolScene *scene = NULL;
     if (!check(glcol_scene_create(&sd, &scene), "scene_create (0.1 GlcolSceneDesc)")) return 1;
 

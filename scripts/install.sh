@@ -9,8 +9,11 @@
 #               libglcollide.a                     the static library
 #               pkgconfig/glcollide.pc             for pkg-config
 #               cmake/glcollide/glcollideConfig{,Version}.cmake   for find_package(glcollide)
+# PREFIX/lib/debug/.build-id/xx/yyyy.debug         the shared library's debug info (split off:
+#                                                   the installed libraries are stripped)
 #
-# Environment: LIBDIR (relative to PREFIX, default lib; e.g. lib/x86_64-linux-gnu),
+# Environment: KEEP_DEBUG=1 (install the libraries unstripped), LIBDIR (relative to PREFIX,
+# default lib; e.g. lib/x86_64-linux-gnu),
 # DESTDIR (stage into DESTDIR/PREFIX, for packaging), CARGO_TARGET_DIR as for cargo.
 # Installs cargo-c (cargo install --debug, 3 to 5 minutes on 2 cores; CARGO_C_RELEASE=1 builds
 # it optimised, about 10) and the Debian packages its build needs only when they are missing.
@@ -71,6 +74,29 @@ cargo cinstall --release --locked --prefix "$prefix" --libdir "$libdir" --includ
 
 root=${destdir:-${stage:-}}
 bash cmake/write-package-config.sh "$root$prefix/$libdir" "$root$prefix/include"
+
+# Ship lean, as distributions do: the shared library without debug info (symbols not needed
+# for linking dropped too), its debug info in a separate file found by build id
+# (PREFIX/lib/debug/.build-id/xx/yyyy.debug, the place gdb looks under /usr; for another
+# prefix, `set debug-file-directory PREFIX/lib/debug`) and named by a .gnu_debuglink; the
+# static library without debug info. KEEP_DEBUG=1 installs them as built.
+if [ "${KEEP_DEBUG:-0}" != 1 ]; then
+  lib="$root$prefix/$libdir"
+  so=$(find "$lib" -maxdepth 1 -type f -name 'libglcollide.so.*' | head -1)
+  id=$(readelf -n "$so" | sed -n 's/.*Build ID: *\([0-9a-f]*\).*/\1/p')
+  if [ -n "$id" ]; then
+    dbg="$root$prefix/lib/debug/.build-id/${id:0:2}/${id:2}.debug"
+  else
+    dbg="$lib/.debug/$(basename "$so").debug"
+  fi
+  mkdir -p "$(dirname "$dbg")"
+  objcopy --only-keep-debug --compress-debug-sections=zlib "$so" "$dbg"
+  chmod 0644 "$dbg"
+  strip --strip-unneeded --remove-section=.comment "$so"
+  objcopy --add-gnu-debuglink="$dbg" "$so"
+  strip --strip-debug "$lib/libglcollide.a"
+  echo "install: stripped $(basename "$so") ($(du -k "$so" | cut -f1) KiB; debug info $(du -k "$dbg" | cut -f1) KiB in ${dbg#"$root"}) and libglcollide.a ($(du -k "$lib/libglcollide.a" | cut -f1) KiB)"
+fi
 
 if [ -n "$stage" ]; then
   echo "install: copying into $prefix with sudo"

@@ -122,7 +122,7 @@ fn mesh_desc(m: &TestMesh) -> GlcolMeshDesc {
 
 fn scene_desc() -> GlcolSceneDesc {
     let mut d = unsafe { std::mem::zeroed::<GlcolSceneDesc>() };
-    unsafe { glcol_scene_desc_init(&mut d) };
+    unsafe { glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>()) };
     d
 }
 

@@ -337,7 +337,7 @@ fn backend_choice_and_refusals() {
     // SAFETY: this test's GL context is current on this thread; the objects are its own.
     unsafe {
         let mut d = std::mem::zeroed::<GlcolSceneDesc>();
-        glcol_scene_desc_init(&mut d);
+        glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>());
         d.backend = GlcolBackend::GlSelect as u32;
         let mut s = std::ptr::null_mut();
         assert_eq!(glcol_scene_create(&d, &mut s), GlcolStatus::GlUnavailable);

@@ -43,6 +43,24 @@ cmp -s include/glcollide.h "$prefix/include/glcollide/glcollide.h" \
 soname=$(readelf -d "$prefix/lib/libglcollide.so.$version" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
 [ "$soname" = "libglcollide.so.$sover" ] && ok "soname $soname" || bad "soname '$soname', want libglcollide.so.$sover"
 
+# Shipped lean (issue 14): no debug info in the installed libraries; the shared library's
+# is split off under lib/debug/.build-id and gdb finds it there (file and line of a symbol).
+so="$prefix/lib/libglcollide.so.$version"
+if readelf -S "$so" | grep -q '\.debug_info'; then bad "installed $(basename "$so") has debug info"; fi
+if readelf -S "$prefix/lib/libglcollide.a" | grep -q '\.debug_info'; then bad "installed libglcollide.a has debug info"; fi
+id=$(readelf -n "$so" | sed -n 's/.*Build ID: *\([0-9a-f]*\).*/\1/p')
+dbg="$prefix/lib/debug/.build-id/${id:0:2}/${id:2}.debug"
+if [ -n "$id" ] && readelf -S "$dbg" 2>/dev/null | grep -q '\.debug_info'; then
+  ok "debug info split off into lib/debug/.build-id/${id:0:2}/${id:2}.debug"
+else
+  bad "no debug file for build id '$id'"
+fi
+line=$(gdb -nx -batch -iex "set debug-file-directory $prefix/lib/debug" -ex "info line glcol_query_all" "$so" 2>&1 | grep -m1 -o 'Line [0-9]* of "[^"]*"' || true)
+[[ "$line" == *src/ffi/mod.rs* ]] && ok "gdb finds glcol_query_all at $line through the split debug info" \
+  || bad "gdb does not find glcol_query_all's source line: '$line'"
+size_of() { du -k "$1" | cut -f1; }
+ok "sizes: $(basename "$so") $(size_of "$so") KiB, its debug info $(size_of "$dbg") KiB, libglcollide.a $(size_of "$prefix/lib/libglcollide.a") KiB"
+
 # Exported symbols of the installed library == the header's functions.
 # Declarations start in column 0 (comments start with // or " *").
 header_fns=$(grep -E '^[A-Za-z]' include/glcollide.h | grep -oE '\bglcol_[a-z0-9_]+\(' | tr -d '(' | sort -u)

@@ -238,19 +238,67 @@ pub extern "C" fn glcol_version() -> *const c_char {
     concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
 }
 
-/// Fills every field of `desc` with its default: struct_size (this header's size),
-/// GLCOL_BACKEND_AUTO, no loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of
-/// thumb), threads 0 (one per core). NULL is ignored.
+/// The exported symbol that programs built against glcollide 0.1's header call: it fills
+/// 0.1's `GlcolSceneDesc` (everything up to `threads`, which it cannot know the caller
+/// has) with the defaults and sets `struct_size` to 0.1's size, so `threads` keeps its
+/// default (0: one per core). This header turns every `glcol_scene_desc_init(desc)` into
+/// `glcol_scene_desc_init_sized(desc, sizeof *(desc))` (a macro below), so a program
+/// compiled against it fills the whole struct; only a call through a function pointer or
+/// `dlsym` reaches this symbol, and such callers (language bindings) should call
+/// `glcol_scene_desc_init_sized` instead. NULL is ignored.
 ///
 /// # Safety
-/// `desc` is NULL or points to a writable, aligned `GlcolSceneDesc`.
+/// `desc` is NULL or points to writable, aligned memory of at least 0.1's
+/// `sizeof(GlcolSceneDesc)` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
     if desc.is_null() {
         return;
     }
-    // SAFETY: non-null (checked); the caller's contract: writable and aligned.
-    unsafe { desc.write(scene_desc_defaults()) };
+    let n = SCENE_DESC_SIZES[1].0;
+    let mut d = scene_desc_defaults();
+    d.struct_size = n as u32;
+    // SAFETY: non-null (checked); the caller's contract: writable and aligned for 0.1's
+    // size `n`, a prefix of whole fields of `d` (a distinct local).
+    unsafe { std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n) };
+}
+
+/// Fills a `GlcolSceneDesc` of `size` bytes (`sizeof(GlcolSceneDesc)` of the header the
+/// caller was compiled with: this one's, or 0.1's) with its defaults: struct_size = `size`,
+/// GLCOL_BACKEND_AUTO, no loader, epsilon 0 (exact), max_polygons_per_box 0 (rule of
+/// thumb), threads 0 (one per core); nothing past `size` bytes is written. C and C++ call it
+/// through the `glcol_scene_desc_init(desc)` macro. Statuses: NULL_POINTER, INVALID_ARGUMENT
+/// (a size no version of the struct has, or a misaligned `desc`; nothing written).
+///
+/// # Safety
+/// `desc` is NULL or points to writable memory of `size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_scene_desc_init_sized(
+    desc: *mut GlcolSceneDesc,
+    size: usize,
+) -> GlcolStatus {
+    guard(|| {
+        non_null(desc, "desc")?;
+        aligned(desc, "desc")?;
+        let Some(&(n, _)) = SCENE_DESC_SIZES.iter().find(|&&(n, _)| n == size) else {
+            let want = SCENE_DESC_SIZES
+                .iter()
+                .map(|&(n, note)| format!("{n} ({note})"))
+                .collect::<Vec<_>>()
+                .join(" or ");
+            return Err(invalid(format!(
+                "size is {size}, expected {want}: pass sizeof(GlcolSceneDesc)"
+            )));
+        };
+        let mut d = scene_desc_defaults();
+        d.struct_size = n as u32;
+        // SAFETY: non-null and aligned (checked); the caller's contract: `size` == `n`
+        // writable bytes; `n` is one of SCENE_DESC_SIZES, a prefix of whole fields of `d`.
+        unsafe {
+            std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n)
+        };
+        Ok(())
+    })
 }
 
 /// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,

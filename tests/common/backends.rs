@@ -176,7 +176,7 @@ impl FfiScene {
     pub fn new(backend: GlcolBackend, epsilon: f32, leaf: u32) -> FfiScene {
         unsafe {
             let mut d = std::mem::zeroed::<GlcolSceneDesc>();
-            glcol_scene_desc_init(&mut d);
+            glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>());
             d.backend = backend as u32;
             d.epsilon = epsilon;
             d.max_polygons_per_box = leaf;

@@ -136,7 +136,7 @@ pub fn try_scene(
 ) -> Result<*mut GlcolScene, (GlcolStatus, String)> {
     unsafe {
         let mut d = std::mem::zeroed::<GlcolSceneDesc>();
-        glcol_scene_desc_init(&mut d);
+        glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>());
         d.backend = backend as u32;
         d.get_proc_address = Some(get_proc_address);
         d.epsilon = epsilon;
