@@ -232,7 +232,7 @@ pub extern "C" fn glcol_abi_version() -> u32 {
     GLCOL_ABI_VERSION
 }
 
-/// Version of the loaded library ("0.1.0"), a static string.
+/// Version of the loaded library (e.g. "0.1.1"), a static string.
 #[no_mangle]
 pub extern "C" fn glcol_version() -> *const c_char {
     concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
