@@ -4,6 +4,9 @@
 //! every mesh self-colliding, median over repeated frames, for 1 and 2 threads, exact and
 //! within 1e-3 of the scene's extent. Prints a Markdown table.
 //!   cargo bench --bench scene [-- FRAMES]
+//! With `scaling [CSV]`, instead: time per frame against the number of bodies (10 to 5,000
+//! spheres, exact, threads 1 and 2), printed and written as CSV for bench/scaling_plot.py:
+//!   cargo bench --bench scene -- scaling bench-results/scaling.csv
 
 use std::time::Instant;
 
@@ -150,11 +153,38 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, usi
     (median(&mut total), median(&mut query), pairs)
 }
 
+/// Time per frame against the body count: the broad phase must keep it proportional to the
+/// touching pairs (here about 3 per body), not to the square of the body count.
+fn scaling(frames: usize, csv: Option<&str>) {
+    let mut rows = vec!["bodies,triangles,threads,ms_per_frame,query_ms,pairs".to_string()];
+    println!("{frames} frames per row, median; every sphere self-colliding; exact; CPU backend\n");
+    println!("| bodies | triangles | threads | ms per frame (update + query) | query ms | pairs | query us per body |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    for n in [10, 30, 100, 300, 1000, 3000, 5000] {
+        let case = spheres_case(n);
+        let tris: usize = case.idx.iter().map(|i| i.len() / 3).sum();
+        for threads in [1, 2] {
+            let (t, q, pairs) = run(&case, 0.0, threads, frames);
+            println!(
+                "| {n} | {tris} | {threads} | {t:.2} | {q:.2} | {pairs} | {:.1} |",
+                q * 1e3 / n as f64
+            );
+            rows.push(format!("{n},{tris},{threads},{t:.4},{q:.4},{pairs}"));
+        }
+    }
+    if let Some(path) = csv {
+        std::fs::write(path, rows.join("\n") + "\n").expect("writing the CSV");
+        println!("\nwrote {path}");
+    }
+}
+
 fn main() {
-    let frames: usize = std::env::args()
-        .skip(1)
-        .find_map(|a| a.parse().ok())
-        .unwrap_or(10);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let frames: usize = args.iter().find_map(|a| a.parse().ok()).unwrap_or(10);
+    if let Some(i) = args.iter().position(|a| a == "scaling") {
+        let csv = args.get(i + 1).filter(|a| a.ends_with(".csv"));
+        return scaling(frames, csv.map(String::as_str));
+    }
     let cases = [
         sim_case("cloth-funnel", 227),
         sim_case("armadillo-rollers", 326),
