@@ -12,7 +12,9 @@
 //!   deleted: INVALID_ARGUMENT naming the mesh and the sizes, at every query;
 //! - a host error pending, with a debug callback installed: our calls log nothing and the
 //!   host's error is still pending after each;
-//! - a partial update of a bound mesh: refused; a full one unbinds and is answered.
+//! - a partial update of a bound mesh: refused; a full one unbinds and is answered;
+//! - AUTO on llvmpipe (the CPU backend) with a bound buffer: read back at each query,
+//!   answered exactly as the CPU, the same misuses refused, no debug message.
 mod common;
 
 use common::backends::gl_support;
@@ -519,4 +521,178 @@ fn pending_error_is_kept_quietly_gl_compute_compat() {
 #[test]
 fn pending_error_is_kept_quietly_gl_select_compat() {
     pending_error_is_kept_quietly(Profile::Compat, GlcolBackend::GlSelect);
+}
+
+/// A host buffer holding `pos` at byte `offset`, `stride` bytes apart (padding 7.0).
+fn host_strided(
+    g: &glow::Context,
+    pos: &[[f32; 3]],
+    offset: usize,
+    stride: usize,
+) -> glow::NativeBuffer {
+    let mut words = vec![7.0f32; (offset + pos.len() * stride) / 4];
+    for (i, p) in pos.iter().enumerate() {
+        words[(offset + i * stride) / 4..][..3].copy_from_slice(p);
+    }
+    // SAFETY: the test's context is current; the buffer is its own; the bytes are `words`'.
+    unsafe {
+        let h = g.create_buffer().unwrap();
+        let bytes = std::slice::from_raw_parts(words.as_ptr().cast::<u8>(), words.len() * 4);
+        g.bind_buffer(glow::ARRAY_BUFFER, Some(h));
+        g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+        g.bind_buffer(glow::ARRAY_BUFFER, None);
+        h
+    }
+}
+
+/// AUTO on llvmpipe runs on the CPU, and binding works there too: each query reads the
+/// buffer back (strided, at an offset) and answers exactly as the CPU does with those
+/// positions; the same misuses are refused as on GL_COMPUTE. (With a hardware GPU AUTO
+/// picks GL_COMPUTE: the answer is then checked against the band.)
+#[test]
+fn binding_under_auto() {
+    let home = Ctx::new(Profile::Core);
+    let g = home.glow();
+    let (a, b) = sheets(0.0);
+    let (_, b2) = sheets(0.7);
+    let want = cpu_answer(&a, &b);
+    let want2 = cpu_answer(&a, &b2);
+    let s = scene(GlcolBackend::Auto, 0.0, 0);
+    let on_cpu = backend_of(s) == GlcolBackend::Cpu as u32;
+    let check = |got: Pairs, want: &Pairs, b: &TestMesh| {
+        if on_cpu {
+            assert_eq!(&got, want);
+        } else {
+            within_bound(&got, &a, b);
+        }
+    };
+    // Created at b2's positions, bound to a buffer holding b's.
+    let b_id = add_mesh(s, &b2.pos, &b.idx, 3);
+    let a_id = add_mesh(s, &a.pos, &a.idx, 3);
+    let (offset, stride) = (16, 24);
+    let host = host_strided(&g, &b.pos, offset, stride);
+    // SAFETY: a live scene; its context is current.
+    ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, host.0.get(), offset, stride) });
+    check(try_query(s, a_id).unwrap(), &want, &b);
+    // The host rewrites its buffer: the next query sees it.
+    let moved = host_strided(&g, &b2.pos, offset, stride);
+    // SAFETY: the test's context is current; both buffers are its own.
+    unsafe {
+        g.bind_buffer(glow::COPY_READ_BUFFER, Some(moved));
+        g.bind_buffer(glow::COPY_WRITE_BUFFER, Some(host));
+        let n = (offset + b2.pos.len() * stride) as i32;
+        g.copy_buffer_sub_data(glow::COPY_READ_BUFFER, glow::COPY_WRITE_BUFFER, 0, 0, n);
+        g.delete_buffer(moved);
+    }
+    check(try_query(s, a_id).unwrap(), &want2, &b2);
+    // Shrunk, then whole again.
+    // SAFETY: the test's context is current; `host` is its buffer.
+    unsafe {
+        g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
+        g.buffer_data_size(glow::ARRAY_BUFFER, 48, glow::STATIC_DRAW);
+        g.bind_buffer(glow::ARRAY_BUFFER, None);
+    }
+    let id = format!("mesh {b_id}");
+    refused(
+        try_query(s, a_id),
+        GlcolStatus::InvalidArgument,
+        &[&id, "48 bytes"],
+    );
+    // No context, an unshared one: refused, nothing read.
+    home.release_current();
+    refused(
+        try_query(s, a_id),
+        GlcolStatus::GlUnavailable,
+        &["no GL context is current"],
+    );
+    let other = Ctx::new(Profile::Core);
+    let og = other.glow();
+    let theirs = host_buffers(&og, 16);
+    refused(
+        try_query(s, a_id),
+        GlcolStatus::GlUnavailable,
+        &["wrong GL context current"],
+    );
+    host_buffers_intact(&og, &theirs);
+    home.make_current();
+    let back = host_strided(&g, &b.pos, offset, stride);
+    // SAFETY: a live scene; its context is current.
+    ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, back.0.get(), offset, stride) });
+    check(try_query(s, a_id).unwrap(), &want, &b);
+    // A NaN in the buffer: NON_FINITE naming the mesh (CPU read-back and GPU alike).
+    let mut bad = b.pos.clone();
+    bad[3][1] = f32::NAN;
+    let nan = host_strided(&g, &bad, offset, stride);
+    // SAFETY: a live scene; its context is current.
+    ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, nan.0.get(), offset, stride) });
+    refused(try_query(s, a_id), GlcolStatus::NonFinite, &[&id]);
+    // SAFETY: as above.
+    ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, back.0.get(), offset, stride) });
+    // Partial update: refused; full update: unbinds.
+    // SAFETY: a live scene; the positions are 5 vertices.
+    let st =
+        unsafe { glcol_mesh_update_positions(s, b_id, b.pos[10..15].as_ptr().cast(), 10, 5, 0) };
+    assert_eq!(st, GlcolStatus::InvalidArgument, "{}", last_error());
+    update(s, b_id, &b2.pos);
+    assert_eq!(pairs(&query(s, a_id)), want2);
+    // SAFETY: a live scene; its context is current; the buffers are the test's.
+    unsafe {
+        glcol_scene_destroy(s);
+        g.delete_buffer(host);
+        g.delete_buffer(back);
+        g.delete_buffer(nan);
+    }
+    other.make_current();
+    host_buffers_intact(&og, &theirs);
+    drop(other);
+    drop(home);
+}
+
+/// A CPU scene from AUTO that binds a buffer: its read-back logs no debug message and
+/// keeps the host's pending error.
+#[test]
+fn binding_under_auto_is_quiet() {
+    let ctx = Ctx::new(Profile::Compat);
+    let mut g = ctx.glow();
+    let log: Log = Arc::default();
+    let sink = log.clone();
+    // SAFETY: the test's context is current; the callback only records.
+    unsafe {
+        g.enable(glow::DEBUG_OUTPUT);
+        g.enable(glow::DEBUG_OUTPUT_SYNCHRONOUS);
+        g.debug_message_callback(move |_source, kind, id, _severity, msg: &str| {
+            sink.lock()
+                .unwrap()
+                .push(format!("type 0x{kind:x} id {id}: {msg}"));
+        });
+    }
+    let (a, b) = sheets(0.0);
+    let s = scene(GlcolBackend::Auto, 0.0, 0);
+    add_mesh(s, &a.pos, &a.idx, 3);
+    let b_id = add_mesh(s, &b.pos, &b.idx, 3);
+    let host = host_positions(&g, &b.pos);
+    for what in ["bind", "query_all", "destroy"] {
+        // SAFETY: the test's context is current; an invalid enum on purpose.
+        unsafe { g.enable(0) };
+        log.lock().unwrap().clear();
+        match what {
+            // SAFETY: a live scene; its context is current.
+            "bind" => ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, host.0.get(), 0, 0) }),
+            "query_all" => assert_eq!(query_all_status(s).0, GlcolStatus::Ok),
+            // SAFETY: a live scene; its context is current.
+            _ => unsafe { glcol_scene_destroy(s) },
+        }
+        // SAFETY: the test's context is current.
+        unsafe {
+            assert_eq!(g.get_error(), glow::INVALID_ENUM, "{what}: host error lost");
+            assert_eq!(g.get_error(), glow::NO_ERROR, "{what}: an error of ours");
+            let l = std::mem::take(&mut *log.lock().unwrap());
+            assert!(l.is_empty(), "{what} logged {l:#?}");
+        }
+    }
+    // SAFETY: the test's context is current; the buffer is its own.
+    unsafe {
+        g.delete_buffer(host);
+        g.disable(glow::DEBUG_OUTPUT);
+    }
 }

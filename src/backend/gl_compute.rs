@@ -42,8 +42,8 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::geom::polygon::polygon_meets;
 use crate::geom::sortable_key;
 use crate::gpu::state::{StateGuard, Uses};
-use crate::gpu::{buffer, gl_bytes, gl_err, shaders, unavailable, Gl};
-use crate::mesh::{Mesh, Positions};
+use crate::gpu::{buffer, gl_bytes, gl_err, shaders, unavailable, Gl, HostBuffer, HostCheck};
+use crate::mesh::Mesh;
 
 /// Indexed buffer bindings the shaders use (0..BINDINGS).
 const BINDINGS: u32 = 12;
@@ -120,12 +120,10 @@ struct Slot {
 /// A host buffer a mesh reads its positions from, in floats (gather.glsl's units).
 #[derive(Clone, Copy, Debug)]
 struct Bound {
-    buffer: u32,
+    /// The buffer and its layout, in bytes (checked at every query).
+    host: HostBuffer,
     offset: u32,
     stride: u32,
-    /// Bytes the buffer must hold (offset + the vertices at their stride), checked at
-    /// every query: the host may re-specify or delete its buffer at any time.
-    need: u64,
 }
 
 struct Objects {
@@ -620,47 +618,9 @@ impl Compute {
     /// smaller or deleted it since `bind_gl_buffer`). INVALID_ARGUMENT naming the mesh and
     /// the sizes otherwise. The guard restores the COPY_READ_BUFFER binding used to ask.
     fn check_bound(&self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
-        let g = &gl.gl;
-        for (id, b) in &self.bound {
-            if !meshes.get(id).is_some_and(|m| m.enabled) {
-                continue;
-            }
-            let name = buffer(b.buffer);
-            // SAFETY: the scene's context is current (checked by the guard); glIsBuffer
-            // takes any name, and the buffer is bound and asked about only when it is one,
-            // so nothing raises an error.
-            let (size, mapped) = unsafe {
-                if name.is_none_or(|n| !g.is_buffer(n)) {
-                    return Err(Error::invalid(format!(
-                        "mesh {id}: its bound gl_buffer {} is no longer a buffer object of this \
-                         context (deleted?); bind another or give positions with \
-                         glcol_mesh_update_positions",
-                        b.buffer
-                    )));
-                }
-                g.bind_buffer(glow::COPY_READ_BUFFER, name);
-                (
-                    gl.buffer_size(glow::COPY_READ_BUFFER),
-                    g.get_buffer_parameter_i32(glow::COPY_READ_BUFFER, glow::BUFFER_MAPPED) != 0,
-                )
-            };
-            if size < b.need {
-                return Err(Error::invalid(format!(
-                    "mesh {id}: its bound gl_buffer {} now holds {size} bytes; {} are needed for \
-                     its {} vertices at offset {}, stride {} (re-specified smaller since \
-                     glcol_mesh_bind_gl_buffer?)",
-                    b.buffer,
-                    b.need,
-                    meshes[id].vertex_count(),
-                    4 * u64::from(b.offset),
-                    4 * u64::from(b.stride)
-                )));
-            }
-            if mapped {
-                return Err(Error::invalid(format!(
-                    "mesh {id}: its bound gl_buffer {} is mapped; unmap it before the query",
-                    b.buffer
-                )));
+        for (&id, b) in &self.bound {
+            if meshes.get(&id).is_some_and(|m| m.enabled) {
+                b.host.check(gl, HostCheck::Use(id))?;
             }
         }
         Ok(())
@@ -757,7 +717,11 @@ impl Compute {
                 g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(o.buffers[k]));
             }
             for (b, s) in bound {
-                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, SRC_BINDING, buffer(b.buffer));
+                g.bind_buffer_base(
+                    glow::SHADER_STORAGE_BUFFER,
+                    SRC_BINDING,
+                    buffer(b.host.buffer),
+                );
                 set_u32(g, o.gather, "u_src_offset", b.offset);
                 set_u32(g, o.gather, "u_src_stride", b.stride);
                 set_u32(g, o.gather, "u_dst_vertex", s.vertex_base);
@@ -1190,61 +1154,31 @@ impl Selector for GlComputeSelector {
         offset: usize,
         stride: usize,
     ) -> Result<()> {
-        let stride = Positions::stride_or_packed(stride);
-        if stride < Positions::PACKED_STRIDE || stride % 4 != 0 || offset % 4 != 0 {
-            return Err(Error::invalid(format!(
-                "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
-            )));
-        }
-        let need = Positions::byte_len(mesh.vertex_count(), stride)
-            .and_then(|n| n.checked_add(offset))
-            .ok_or_else(|| Error::invalid("offset + vertex_count * stride overflows"))?;
+        let host = HostBuffer::new(buf, offset, stride, mesh.vertex_count())?;
         // gather.glsl indexes the host's buffer in 32-bit float units.
-        let floats = |n: usize| u32::try_from(n / 4).ok();
-        let (Some(_), Some(offset_floats), Some(stride_floats)) =
-            (floats(need), floats(offset), floats(stride))
+        let floats = |n: u64| u32::try_from(n / 4).ok();
+        let (Some(_), Some(offset), Some(stride)) =
+            (floats(host.need), floats(host.offset), floats(host.stride))
         else {
             return Err(Error::new(
                 ErrorKind::Unsupported,
                 format!(
-                    "gl_buffer {buf}: {need} bytes at offset {offset}, stride {stride} reach past \
-                     the 16 GiB the shaders address with 32-bit indices"
+                    "gl_buffer {buf}: {} bytes at offset {}, stride {} reach past the 16 GiB \
+                     the shaders address with 32-bit indices",
+                    host.need, host.offset, host.stride
                 ),
             ));
         };
-        let size = self.guarded(|gl, _| {
-            let g = &gl.gl;
-            // SAFETY: the context this `gl` was loaded for is current (every GL-backed
-            // call's contract); glIsBuffer takes any name, and the buffer is bound (to a
-            // target the guard restores) only when it is one.
-            unsafe {
-                let name = buffer(buf);
-                if name.is_none_or(|b| !g.is_buffer(b)) {
-                    return Ok(None);
-                }
-                g.bind_buffer(glow::COPY_READ_BUFFER, name);
-                Ok(Some(gl.buffer_size(glow::COPY_READ_BUFFER)))
-            }
-        })?;
-        match size {
-            None => Err(Error::invalid(format!("gl_buffer {buf} is not a buffer object of this context"))),
-            Some(s) if s < need as u64 => Err(Error::invalid(format!(
-                "gl_buffer {buf} holds {s} bytes; {need} are needed for {} vertices at offset {offset}, stride {stride}",
-                mesh.vertex_count()
-            ))),
-            Some(_) => {
-                self.st.bound.insert(
-                    id,
-                    Bound {
-                        buffer: buf,
-                        offset: offset_floats,
-                        stride: stride_floats,
-                        need: need as u64,
-                    },
-                );
-                Ok(())
-            }
-        }
+        self.guarded(|gl, _| host.check(gl, HostCheck::Bind))?;
+        self.st.bound.insert(
+            id,
+            Bound {
+                host,
+                offset,
+                stride,
+            },
+        );
+        Ok(())
     }
 
     fn release(&mut self) {

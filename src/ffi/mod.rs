@@ -814,14 +814,15 @@ pub unsafe extern "C" fn glcol_query_geometry(
     })
 }
 
-/// GL_COMPUTE backend only: from now on the mesh reads its positions from the host's GL
-/// buffer object `gl_buffer` at each query, with no copy through the CPU; the host keeps
-/// ownership. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
+/// GL_COMPUTE backend (and a CPU scene that AUTO chose on a GL context, see below): from
+/// now on the mesh reads its positions from the host's GL buffer object `gl_buffer` at
+/// each query, with no copy through the CPU on GL_COMPUTE; the host keeps ownership. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
 /// `offset` and `stride` multiples of 4, stride >= 12). The positions the mesh was created
 /// with (or last given by `glcol_mesh_update_positions`) are not used while bound.
 /// Statuses: UNKNOWN_MESH, INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride,
-/// buffer too small), GL_UNAVAILABLE (no or the wrong context current), GL_ERROR; other
-/// backends answer GLCOL_STATUS_UNSUPPORTED.
+/// buffer too small), GL_UNAVAILABLE (no or the wrong context current), GL_ERROR; scenes
+/// created for GLCOL_BACKEND_CPU or GL_SELECT (or by AUTO without a loader) answer
+/// GLCOL_STATUS_UNSUPPORTED.
 ///
 /// Rules while bound:
 /// - Each `glcol_query` / `glcol_query_all` checks the buffer again (it may be re-specified
@@ -841,12 +842,14 @@ pub unsafe extern "C" fn glcol_query_geometry(
 /// - Accuracy: with positions only on the GPU the GL_COMPUTE answer is final (no CPU
 ///   confirmation): every intersecting pair, extras within max(epsilon, 2^-20 of the
 ///   largest extent) / 2 (plus 2^-40 of the local size).
-/// - Portable hosts: AUTO picks the CPU on software renderers (llvmpipe) and below GL 4.3,
-///   and this call then answers UNSUPPORTED. Either ask for GLCOL_BACKEND_GL_COMPUTE, or
-///   check `glcol_scene_backend` after creation and, when it is not GL_COMPUTE, read the
-///   buffer back each frame (glGetBufferSubData, after
-///   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT) if a shader wrote it) and hand the
-///   positions to `glcol_mesh_update_positions`.
+/// - AUTO, so that a host needs one code path: where AUTO picks the CPU on a GL context
+///   (software renderers such as llvmpipe, GL below 4.3), binding works too. Each query
+///   that needs the mesh then reads the buffer back (glMemoryBarrier
+///   (GL_BUFFER_UPDATE_BARRIER_BIT), then glGetBufferSubData): a sync point, which waits for
+///   the GPU work writing the buffer; the answer is the CPU's, exact, for those positions
+///   (and contact geometry stays UNSUPPORTED for a bound mesh). The context current at the
+///   first bind becomes the scene's: from then on queries and `glcol_scene_destroy` need
+///   it (or one sharing its objects), as on the GL backends.
 ///
 /// # Safety
 /// `scene` is NULL or a live scene.

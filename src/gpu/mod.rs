@@ -218,6 +218,149 @@ fn desktop_version(lookup: Lookup<'_>) -> Result<String> {
     Ok(version_string)
 }
 
+/// A host's buffer object that a mesh reads its positions from
+/// (`glcol_mesh_bind_gl_buffer`): vertex `i` is three floats at byte `offset + i * stride`.
+/// Checked when bound and again before every use, since the host may re-specify, map or
+/// delete its buffer at any time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HostBuffer {
+    /// The host's buffer name.
+    pub buffer: u32,
+    /// Byte offset of vertex 0.
+    pub offset: u64,
+    /// Bytes from one vertex to the next (>= 12).
+    pub stride: u64,
+    /// Vertices it holds.
+    pub vertices: u64,
+    /// Bytes the buffer must hold: `offset + (vertices - 1) * stride + 12`.
+    pub need: u64,
+}
+
+/// When a [`HostBuffer`] is checked (its messages differ).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HostCheck {
+    /// At `glcol_mesh_bind_gl_buffer`.
+    Bind,
+    /// Before a query reads it, for mesh `id`.
+    Use(u32),
+}
+
+impl HostBuffer {
+    /// Checks the layout (no GL): `stride` 0 means packed (12); offset and stride multiples
+    /// of 4, stride >= 12, sizes that fit 64 bits.
+    pub fn new(buffer: u32, offset: usize, stride: usize, vertices: usize) -> Result<HostBuffer> {
+        let stride = if stride == 0 { 12 } else { stride };
+        if stride < 12 || stride % 4 != 0 || offset % 4 != 0 {
+            return Err(Error::invalid(format!(
+                "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
+            )));
+        }
+        let (offset, stride, vertices) = (offset as u64, stride as u64, vertices as u64);
+        let need = vertices
+            .checked_sub(1)
+            .map_or(Some(0), |n| n.checked_mul(stride)?.checked_add(12))
+            .and_then(|n| n.checked_add(offset))
+            .ok_or_else(|| Error::invalid("offset + vertex_count * stride overflows"))?;
+        Ok(HostBuffer {
+            buffer,
+            offset,
+            stride,
+            vertices,
+            need,
+        })
+    }
+
+    /// Checks the buffer in the current context: a buffer object, not mapped, holding
+    /// `need` bytes; INVALID_ARGUMENT saying which otherwise (naming the mesh and the
+    /// sizes). Raises no GL error. Binds COPY_READ_BUFFER (GL 3.1), so it runs inside a
+    /// [`state::StateGuard`], which restores it.
+    pub fn check(&self, gl: &Gl, when: HostCheck) -> Result<()> {
+        let g = &gl.gl;
+        let b = self.buffer;
+        let who = match when {
+            HostCheck::Bind => format!("gl_buffer {b}"),
+            HostCheck::Use(id) => format!("mesh {id}: its bound gl_buffer {b}"),
+        };
+        let name = buffer(b);
+        // SAFETY: the scene's context is current (the guard checked it); glIsBuffer takes
+        // any name, and the buffer is bound and asked about only when it is one.
+        let (size, mapped) = unsafe {
+            if name.is_none_or(|n| !g.is_buffer(n)) {
+                return Err(Error::invalid(match when {
+                    HostCheck::Bind => format!("{who} is not a buffer object of this context"),
+                    HostCheck::Use(_) => format!(
+                        "{who} is no longer a buffer object of this context (deleted?); bind \
+                         another or give positions with glcol_mesh_update_positions"
+                    ),
+                }));
+            }
+            g.bind_buffer(glow::COPY_READ_BUFFER, name);
+            let param = |p| g.get_buffer_parameter_i32(glow::COPY_READ_BUFFER, p);
+            // A persistent mapping (GL 4.4) may stay while the GL uses the buffer.
+            let mapped = param(glow::BUFFER_MAPPED) != 0
+                && param(glow::BUFFER_ACCESS_FLAGS) as u32 & glow::MAP_PERSISTENT_BIT == 0;
+            (gl.buffer_size(glow::COPY_READ_BUFFER), mapped)
+        };
+        if size < self.need {
+            let now = if when == HostCheck::Bind { "" } else { "now " };
+            return Err(Error::invalid(format!(
+                "{who} {now}holds {size} bytes; {} are needed for {} vertices at offset {}, \
+                 stride {}{}",
+                self.need,
+                self.vertices,
+                self.offset,
+                self.stride,
+                if when == HostCheck::Bind {
+                    ""
+                } else {
+                    " (re-specified smaller since glcol_mesh_bind_gl_buffer?)"
+                }
+            )));
+        }
+        if mapped {
+            return Err(Error::invalid(format!(
+                "{who} is mapped (not persistently); unmap it before the call"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Reads the bytes `offset .. need` back into `out` (glGetBufferSubData, after
+    /// glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT) so that the host's shader writes are
+    /// seen): a sync point. After [`HostBuffer::check`], inside a state guard.
+    pub fn read(&self, gl: &Gl, out: &mut Vec<u8>) -> Result<()> {
+        let len = usize::try_from(self.need - self.offset).map_err(|_| {
+            Error::new(
+                ErrorKind::OutOfMemory,
+                "the bound buffer's positions do not fit in memory",
+            )
+        })?;
+        let offset = i32::try_from(self.offset).map_err(|_| {
+            Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "gl_buffer {}: offset {} is past the 2 GiB glGetBufferSubData takes here",
+                    self.buffer, self.offset
+                ),
+            )
+        })?;
+        out.clear();
+        crate::error::try_reserve(out, len, "the bound buffer's positions")?;
+        out.resize(len, 0);
+        let g = &gl.gl;
+        // SAFETY: the scene's context is current and the buffer holds `need` bytes, is
+        // not mapped (`check`); glow passes `out`'s own length.
+        unsafe {
+            if gl.info.version >= (4, 2) {
+                g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+            }
+            g.bind_buffer(glow::COPY_READ_BUFFER, buffer(self.buffer));
+            g.get_buffer_sub_data(glow::COPY_READ_BUFFER, offset, out);
+        }
+        gl.check("reading positions back from a bound gl_buffer")
+    }
+}
+
 /// (major, minor) at the start of a GL_VERSION string ((0, 0) when there is none).
 fn parse_version(v: &str) -> (u32, u32) {
     let mut it = v
@@ -352,6 +495,11 @@ impl Gl {
         }
         self.sentinel = Some(sentinel);
         Ok(())
+    }
+
+    /// Has [`Gl::adopt_context`] made this the scene's GL?
+    pub fn adopted(&self) -> bool {
+        self.sentinel.is_some()
     }
 
     /// The sentinel: a buffer of a size and label of its own (the guard restores the
