@@ -696,3 +696,46 @@ fn binding_under_auto_is_quiet() {
         g.disable(glow::DEBUG_OUTPUT);
     }
 }
+
+/// A context sharing the scene's objects but of a kind the backend cannot use: a core
+/// profile for GL_SELECT is refused with a message (GL_SELECT's entry points would fail
+/// there); a compatibility one for a GL_COMPUTE scene made in a core context is fine.
+#[test]
+fn a_shared_context_of_another_kind() {
+    let (a, b) = sheets(0.0);
+    let want = cpu_answer(&a, &b);
+    for (home_profile, backend, shared_profile, usable) in [
+        (
+            Profile::Compat,
+            GlcolBackend::GlSelect,
+            Profile::Core,
+            false,
+        ),
+        (
+            Profile::Core,
+            GlcolBackend::GlCompute,
+            Profile::Compat,
+            true,
+        ),
+    ] {
+        let home = Ctx::new(home_profile);
+        let s = scene(backend, 0.0, 0);
+        add_mesh(s, &b.pos, &b.idx, 3);
+        let a_id = add_mesh(s, &a.pos, &a.idx, 3);
+        let shared = Ctx::new_shared(shared_profile, &home);
+        if usable {
+            assert_eq!(try_query(s, a_id).unwrap(), want, "{backend:?}");
+        } else {
+            refused(
+                try_query(s, a_id),
+                GlcolStatus::GlUnavailable,
+                &["wrong GL context current", "compatibility profile"],
+            );
+        }
+        drop(shared);
+        home.make_current();
+        assert_eq!(try_query(s, a_id).unwrap(), want, "{backend:?} home");
+        // SAFETY: a live scene; its context is current.
+        unsafe { glcol_scene_destroy(s) };
+    }
+}
