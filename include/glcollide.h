@@ -92,8 +92,19 @@ typedef enum GlcolBackend {
 //
 // A "live scene", in the functions' Safety sections: a pointer made by
 // `glcol_scene_create`, not yet given to `glcol_scene_destroy`, used by no other thread
-// during the call, and, for a GL-backed scene, with its context (or one sharing its
-// objects) current on the calling thread.
+// during the call.
+//
+// Contexts (GL_SELECT, GL_COMPUTE): the GL-backed calls (`glcol_query`,
+// `glcol_query_all`, `glcol_mesh_bind_gl_buffer`, `glcol_scene_destroy`) need the scene's
+// context, or one sharing its objects, current on the calling thread. Each checks it
+// first, raising no GL error and changing nothing: with no context current it answers
+// GLCOL_STATUS_GL_UNAVAILABLE "no GL context is current ...", with any other context
+// GLCOL_STATUS_GL_UNAVAILABLE "wrong GL context current ..."; the scene is as before and
+// the next call with the right context answers as if the misuse had not happened. (The
+// check calls the loader's entry points with whatever context is current, as EGL and GLX
+// allow.) No call raises a GL error of its own; an error the host left pending is still
+// pending after the call, raised again with GL_DEBUG_OUTPUT off so that the host's debug
+// callback gets no second message.
 typedef struct GlcolScene GlcolScene;
 
 // Loads a GL entry point by name for the context current on the calling thread (like
@@ -305,8 +316,10 @@ enum GlcolStatus glcol_scene_create(const struct GlcolSceneDesc *desc,
                                     struct GlcolScene **out_scene);
 
 // Frees a scene and everything in it. NULL is fine. GL backends: deletes the scene's GL
-// objects, so the scene's context (or one sharing its objects) must be current; the
-// host's GL state is left as it was. Using the pointer afterwards is undefined (not
+// objects when the scene's context (or one sharing its objects) is current; the host's
+// GL state is left as it was. With no or another context current the scene is freed but
+// its GL objects are left to the context's destruction (deleting names in another context
+// could delete the host's objects). Using the pointer afterwards is undefined (not
 // detectable).
 //
 // # Safety
@@ -341,8 +354,12 @@ enum GlcolStatus glcol_mesh_create(struct GlcolScene *scene,
 // Moves vertices `first_vertex .. first_vertex + vertex_count` to `positions` (x, y, z
 // each, `position_stride` bytes apart, 0 = packed) and refits the mesh's boxes. Rejected
 // whole on any error (the mesh keeps its previous positions): UNKNOWN_MESH, NULL_POINTER,
-// INVALID_ARGUMENT (zero count, range past the end, stride, alignment, overflow),
-// NON_FINITE. The range is checked against the mesh before the array is read; an array
+// INVALID_ARGUMENT (zero count, range past the end, stride, alignment, overflow; a
+// partial update of a mesh bound to a GL buffer), NON_FINITE. A mesh bound with
+// `glcol_mesh_bind_gl_buffer` takes only a full update (first_vertex 0, all its
+// vertices): it unbinds the buffer, and from then on the mesh's positions are exactly the
+// ones given (the buffer is no longer read). A partial one is refused, since the CPU holds
+// no current positions for the other vertices. Makes no GL call. The range is checked against the mesh before the array is read; an array
 // shorter than `vertex_count` vertices `position_stride` apart cannot be detected
 // (undefined behaviour).
 //
@@ -376,6 +393,11 @@ enum GlcolStatus glcol_mesh_destroy(struct GlcolScene *scene, GlcolMeshId mesh);
 // non-const. Meaning: with epsilon e > 0 the other polygon meets the reference polygon's
 // viewing volume (the polygon thickened by e/2 along its normal); with e = 0 the two
 // closed polygons intersect exactly (touching counts).
+//
+// GL backends: GLCOL_STATUS_GL_UNAVAILABLE without the scene's context current (see
+// GlcolScene); a mesh bound to a GL buffer that is no longer a buffer, is mapped, or now
+// holds fewer bytes than its vertices need: GLCOL_STATUS_INVALID_ARGUMENT naming the mesh
+// and the sizes. Either way nothing changed and the last answer stays valid.
 //
 // # Safety
 // `scene` is NULL or a live scene; `out_contacts` and `out_count` are NULL or writable
@@ -462,15 +484,42 @@ enum GlcolStatus glcol_query_geometry(struct GlcolScene *scene,
                                       const struct GlcolContactGeometry **out_geometry,
                                       size_t *out_count);
 
-// GL_COMPUTE backend only: from now on the mesh reads its positions from the host's GL
-// buffer object `gl_buffer` at each query, with no copy through the CPU; the host keeps
-// ownership and must keep the buffer alive (and `vertex_count` vertices in it) while it
-// is bound. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
+// GL_COMPUTE backend (and a CPU scene that AUTO chose on a GL context, see below): from
+// now on the mesh reads its positions from the host's GL buffer object `gl_buffer` at
+// each query, with no copy through the CPU on GL_COMPUTE; the host keeps ownership. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
 // `offset` and `stride` multiples of 4, stride >= 12). The positions the mesh was created
-// with (or last given by `glcol_mesh_update_positions`, which unbinds the buffer) are not
-// used while bound. Needs the scene's context current. Statuses: UNKNOWN_MESH,
-// INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride, buffer too small),
-// GL_ERROR; other backends answer GLCOL_STATUS_UNSUPPORTED.
+// with (or last given by `glcol_mesh_update_positions`) are not used while bound.
+// Statuses: UNKNOWN_MESH, INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride,
+// buffer too small), GL_UNAVAILABLE (no or the wrong context current), GL_ERROR; scenes
+// created for GLCOL_BACKEND_CPU or GL_SELECT (or by AUTO without a loader) answer
+// GLCOL_STATUS_UNSUPPORTED.
+//
+// Rules while bound:
+// - Each `glcol_query` / `glcol_query_all` checks the buffer again (it may be re-specified
+//   or deleted at any time): not a buffer any more, mapped, or smaller than `offset` +
+//   the vertices need: GLCOL_STATUS_INVALID_ARGUMENT naming the mesh and the sizes.
+// - Synchronisation: the host needs no glMemoryBarrier. Writes made in the same context
+//   before the call (by its shaders, glBufferSubData, copies, transform feedback) are
+//   seen: glcollide issues glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT) itself before
+//   it reads the buffer as a shader storage block. Writes made in another (sharing)
+//   context need the usual cross-context synchronisation (a fence) before the call.
+// - The buffer is read only during a query that uses the mesh, and when that query
+//   answers OK the reads are complete (it waits for its one read-back, which comes after
+//   them): the host may overwrite the buffer as soon as the call returns.
+// - `glcol_mesh_update_positions` takes only a full update, which unbinds the buffer.
+// - Contact geometry (`glcol_query_geometry`) needs CPU positions: UNSUPPORTED for
+//   contacts of a bound mesh.
+// - Accuracy: with positions only on the GPU the GL_COMPUTE answer is final (no CPU
+//   confirmation): every intersecting pair, extras within max(epsilon, 2^-20 of the
+//   largest extent) / 2 (plus 2^-40 of the local size).
+// - AUTO, so that a host needs one code path: where AUTO picks the CPU on a GL context
+//   (software renderers such as llvmpipe, GL below 4.3), binding works too. Each query
+//   that needs the mesh then reads the buffer back (glMemoryBarrier
+//   (GL_BUFFER_UPDATE_BARRIER_BIT), then glGetBufferSubData): a sync point, which waits for
+//   the GPU work writing the buffer; the answer is the CPU's, exact, for those positions
+//   (and contact geometry stays UNSUPPORTED for a bound mesh). The context current at the
+//   first bind becomes the scene's: from then on queries and `glcol_scene_destroy` need
+//   it (or one sharing its objects), as on the GL backends.
 //
 // # Safety
 // `scene` is NULL or a live scene.

@@ -185,13 +185,26 @@ impl Scene {
         self.meshes.keys().copied()
     }
 
-    /// Moves vertices `first..first + positions.len()` and refits the mesh's boxes.
+    /// Moves vertices `first..first + positions.len()` and refits the mesh's boxes. A mesh
+    /// bound to a GL buffer takes only a full update (all its vertices), which unbinds it:
+    /// a partial one is refused (InvalidArgument), as the other vertices' CPU positions are
+    /// stale.
     pub fn update_positions(
         &mut self,
         id: MeshId,
         first: usize,
         positions: Positions<'_>,
     ) -> Result<()> {
+        let n = self.mesh(id)?.vertex_count();
+        if self.selector.gl_bound(id) && (first != 0 || positions.len() != n) {
+            return Err(Error::invalid(format!(
+                "mesh {id} reads its positions from a GL buffer (glcol_mesh_bind_gl_buffer); \
+                 its CPU positions are stale, so a partial update (vertices {first}..{} of {n}) \
+                 is refused: give all {n} vertices (which unbinds the buffer), or write the \
+                 range into the buffer",
+                first.saturating_add(positions.len())
+            )));
+        }
         self.mesh_mut(id)?.update_positions(first, positions)?;
         self.selector.mesh_updated(id);
         self.forget_query();

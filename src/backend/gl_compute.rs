@@ -42,8 +42,8 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::geom::polygon::polygon_meets;
 use crate::geom::sortable_key;
 use crate::gpu::state::{StateGuard, Uses};
-use crate::gpu::{buffer, gl_bytes, gl_err, shaders, unavailable, Gl};
-use crate::mesh::{Mesh, Positions};
+use crate::gpu::{buffer, gl_bytes, gl_err, shaders, unavailable, Gl, HostBuffer, HostCheck};
+use crate::mesh::Mesh;
 
 /// Indexed buffer bindings the shaders use (0..BINDINGS).
 const BINDINGS: u32 = 12;
@@ -120,7 +120,8 @@ struct Slot {
 /// A host buffer a mesh reads its positions from, in floats (gather.glsl's units).
 #[derive(Clone, Copy, Debug)]
 struct Bound {
-    buffer: u32,
+    /// The buffer and its layout, in bytes (checked at every query).
+    host: HostBuffer,
     offset: u32,
     stride: u32,
 }
@@ -396,8 +397,9 @@ fn arena_too_big(what: &str) -> Error {
 impl GlComputeSelector {
     /// Needs GL 4.3+ (compute shaders, SSBOs, double precision: see
     /// [`crate::gpu::compute_gl_version`]) and the context current on this thread.
-    pub fn new(gl: Gl) -> Result<GlComputeSelector> {
+    pub fn new(mut gl: Gl) -> Result<GlComputeSelector> {
         let max_block = capabilities(&gl)?;
+        gl.adopt_context(USES)?;
         let mut s = GlComputeSelector {
             gl,
             st: Compute {
@@ -426,11 +428,17 @@ impl GlComputeSelector {
 
     /// Runs `work` between saving the host's GL state and restoring it: the guard borrows
     /// `self.gl` while `work` gets the GL and the rest of the selector as separate borrows.
-    /// `work`'s error comes first, then the guard's (a GL error of ours).
+    /// `work`'s error comes first, then the guard's (a GL error of ours). The guard refuses
+    /// (changing nothing) when the scene's context is not current. After a failure
+    /// nothing the failed work may have half-made is trusted: the next query lays the
+    /// arenas out, uploads every position and sizes its buffers afresh.
     fn guarded<R>(&mut self, work: impl FnOnce(&Gl, &mut Compute) -> Result<R>) -> Result<R> {
         let guard = StateGuard::enter(&self.gl, USES)?;
         let r = work(&self.gl, &mut self.st);
         let done = guard.finish();
+        if r.is_err() || done.is_err() {
+            self.st.distrust();
+        }
         let r = r?;
         done.map(|()| r)
     }
@@ -573,6 +581,12 @@ struct Plan {
 }
 
 impl Compute {
+    /// Forgets what the GL buffers were last known to hold.
+    fn distrust(&mut self) {
+        self.slots.clear();
+        self.sized = None;
+    }
+
     fn objects(&self) -> &Objects {
         self.obj.as_ref().expect("GL objects exist until release")
     }
@@ -586,18 +600,30 @@ impl Compute {
             })
     }
 
-    /// Before each query: lays the meshes out again if they changed, uploads positions
-    /// and boxes that changed on the CPU, gathers host buffers' positions on the GPU.
+    /// Before each query: checks the host buffers, lays the meshes out again if they
+    /// changed, uploads positions and boxes that changed on the CPU. (Host buffers are
+    /// gathered by the query that uses them, whose read-back then waits for the gather: a
+    /// call that answers has finished reading them.)
     fn prepare(&mut self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
+        self.check_bound(gl, meshes)?;
         if !self.layout_matches(meshes) {
             self.rebuild(gl, meshes)?;
         }
         self.upload_changed(gl, meshes)?;
-        if self.bound.is_empty() {
-            return gl.check("uploading positions");
+        gl.check("uploading positions")
+    }
+
+    /// Every enabled mesh's host buffer, before anything is touched: still a buffer object,
+    /// not mapped, and still holding the mesh's vertices (the host may have re-specified it
+    /// smaller or deleted it since `bind_gl_buffer`). INVALID_ARGUMENT naming the mesh and
+    /// the sizes otherwise. The guard restores the COPY_READ_BUFFER binding used to ask.
+    fn check_bound(&self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
+        for (&id, b) in &self.bound {
+            if meshes.get(&id).is_some_and(|m| m.enabled) {
+                b.host.check(gl, HostCheck::Use(id))?;
+            }
         }
-        self.gather_bound(gl, meshes);
-        gl.check("gathering positions from host buffers")
+        Ok(())
     }
 
     /// Lays every mesh out in the arenas again (meshes were added or removed).
@@ -666,26 +692,36 @@ impl Compute {
         Ok(())
     }
 
-    /// Host buffers: gathers their positions into the arena on the GPU (after the host's
-    /// own shader writes to them); the query refits their leaves and reads nothing back
-    /// (disabled meshes are not in it, so they are skipped).
-    fn gather_bound(&self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) {
+    /// Host buffers of the query's meshes: gathers their positions into the arena on the
+    /// GPU, behind a `GL_SHADER_STORAGE_BARRIER_BIT` barrier so that the host's own shader
+    /// writes before the call are seen (the host needs no barrier); the query then refits
+    /// their leaves.
+    fn gather_bound(&self, gl: &Gl, q: &QueryMeshes<'_>) -> Result<()> {
+        let bound: Vec<(&Bound, &Slot)> = q
+            .meshes
+            .iter()
+            .filter_map(|(id, _)| Some((self.bound.get(id)?, &self.slots[id])))
+            .collect();
+        if bound.is_empty() {
+            return Ok(());
+        }
         let g = &gl.gl;
         let o = self.objects();
         // SAFETY: as in `rebuild`; the host's buffer was checked to be a buffer object of
-        // this context holding every vertex at its offset and stride (`bind_gl_buffer`).
+        // this context holding every vertex at its offset and stride, and not mapped, by
+        // `check_bound` in this call's `prepare`.
         unsafe {
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
             g.use_program(Some(o.gather));
             for k in [POS, LEAF_VERTS] {
                 g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, BINDING[k], Some(o.buffers[k]));
             }
-            for (id, b) in &self.bound {
-                if !meshes[id].enabled {
-                    continue;
-                }
-                let s = &self.slots[id];
-                g.bind_buffer_base(glow::SHADER_STORAGE_BUFFER, SRC_BINDING, buffer(b.buffer));
+            for (b, s) in bound {
+                g.bind_buffer_base(
+                    glow::SHADER_STORAGE_BUFFER,
+                    SRC_BINDING,
+                    buffer(b.host.buffer),
+                );
                 set_u32(g, o.gather, "u_src_offset", b.offset);
                 set_u32(g, o.gather, "u_src_stride", b.stride);
                 set_u32(g, o.gather, "u_dst_vertex", s.vertex_base);
@@ -693,6 +729,7 @@ impl Compute {
             }
             g.memory_barrier(glow::SHADER_STORAGE_BARRIER_BIT);
         }
+        gl.check("gathering positions from host buffers")
     }
 
     /// Steps 1 to 5 on the GPU, one read-back (see the module's documentation).
@@ -704,6 +741,7 @@ impl Compute {
         stats: &mut QueryStats,
     ) -> Result<()> {
         let t0 = std::time::Instant::now();
+        self.gather_bound(gl, q)?;
         let plan = self.plan(q)?;
         let raw = self.run_until_room(gl, &plan)?;
         stats.tests = [
@@ -1116,83 +1154,65 @@ impl Selector for GlComputeSelector {
         offset: usize,
         stride: usize,
     ) -> Result<()> {
-        let stride = Positions::stride_or_packed(stride);
-        if stride < Positions::PACKED_STRIDE || stride % 4 != 0 || offset % 4 != 0 {
-            return Err(Error::invalid(format!(
-                "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
-            )));
-        }
-        let need = Positions::byte_len(mesh.vertex_count(), stride)
-            .and_then(|n| n.checked_add(offset))
-            .ok_or_else(|| Error::invalid("offset + vertex_count * stride overflows"))?;
+        let host = HostBuffer::new(buf, offset, stride, mesh.vertex_count())?;
         // gather.glsl indexes the host's buffer in 32-bit float units.
-        let floats = |n: usize| u32::try_from(n / 4).ok();
-        let (Some(_), Some(offset_floats), Some(stride_floats)) =
-            (floats(need), floats(offset), floats(stride))
+        let floats = |n: u64| u32::try_from(n / 4).ok();
+        let (Some(_), Some(offset), Some(stride)) =
+            (floats(host.need), floats(host.offset), floats(host.stride))
         else {
             return Err(Error::new(
                 ErrorKind::Unsupported,
                 format!(
-                    "gl_buffer {buf}: {need} bytes at offset {offset}, stride {stride} reach past \
-                     the 16 GiB the shaders address with 32-bit indices"
+                    "gl_buffer {buf}: {} bytes at offset {}, stride {} reach past the 16 GiB \
+                     the shaders address with 32-bit indices",
+                    host.need, host.offset, host.stride
                 ),
             ));
         };
-        let size = self.guarded(|gl, _| {
-            let g = &gl.gl;
-            // SAFETY: the context this `gl` was loaded for is current (every GL-backed
-            // call's contract); glIsBuffer takes any name, and the buffer is bound (to a
-            // target the guard restores) only when it is one.
-            unsafe {
-                let name = buffer(buf);
-                if name.is_none_or(|b| !g.is_buffer(b)) {
-                    return Ok(None);
-                }
-                g.bind_buffer(glow::COPY_READ_BUFFER, name);
-                Ok(Some(gl.buffer_size(glow::COPY_READ_BUFFER)))
-            }
-        })?;
-        match size {
-            None => Err(Error::invalid(format!("gl_buffer {buf} is not a buffer object of this context"))),
-            Some(s) if s < need as u64 => Err(Error::invalid(format!(
-                "gl_buffer {buf} holds {s} bytes; {need} are needed for {} vertices at offset {offset}, stride {stride}",
-                mesh.vertex_count()
-            ))),
-            Some(_) => {
-                self.st.bound.insert(
-                    id,
-                    Bound {
-                        buffer: buf,
-                        offset: offset_floats,
-                        stride: stride_floats,
-                    },
-                );
-                Ok(())
-            }
-        }
+        self.guarded(|gl, _| host.check(gl, HostCheck::Bind))?;
+        self.st.bound.insert(
+            id,
+            Bound {
+                host,
+                offset,
+                stride,
+            },
+        );
+        Ok(())
     }
 
     fn release(&mut self) {
+        if self.gl.check_current().is_err() {
+            // Not the scene's context: deleting our names here could delete a host's
+            // objects. Ours are left (leaked) rather than risk that.
+            self.st.obj = None;
+            return;
+        }
         let Some(o) = self.st.obj.take() else {
+            self.gl.release_sentinel();
             return;
         };
         // Our objects are bound nowhere between calls (the guard gave every binding back),
         // so deleting them changes no host state: done even when the guard refuses (say,
         // the host's transform feedback is running), rather than leaked.
-        let guard = StateGuard::enter(&self.gl, USES).ok();
-        let g = &self.gl.gl;
-        // SAFETY: the scene's context is current (glcol_scene_destroy's contract); the
-        // objects are ours, made by `create_objects` and deleted once (`obj` was taken).
-        unsafe {
-            for p in std::iter::once(o.gather).chain(o.query.all()) {
-                g.delete_program(p);
+        {
+            let guard = StateGuard::enter(&self.gl, USES).ok();
+            let g = &self.gl.gl;
+            // SAFETY: the scene's context (or one sharing its objects) is current (checked
+            // above); the objects are ours, made by `create_objects` and deleted once (`obj`
+            // was taken).
+            unsafe {
+                for p in std::iter::once(o.gather).chain(o.query.all()) {
+                    g.delete_program(p);
+                }
+                for b in o.buffers {
+                    g.delete_buffer(b);
+                }
             }
-            for b in o.buffers {
-                g.delete_buffer(b);
+            if let Some(guard) = guard {
+                let _ = guard.finish();
             }
         }
-        if let Some(guard) = guard {
-            let _ = guard.finish();
-        }
+        self.gl.release_sentinel();
     }
 }

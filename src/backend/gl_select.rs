@@ -71,7 +71,7 @@ struct Scratch {
 impl GlSelectSelector {
     /// Needs fixed-function entry points: a compatibility-profile context or GL <= 3.0,
     /// with framebuffer objects (GL 3.0) and 3 user clip planes.
-    pub fn new(gl: Gl) -> Result<GlSelectSelector> {
+    pub fn new(mut gl: Gl) -> Result<GlSelectSelector> {
         if !gl.info.fixed_function {
             return Err(unavailable(format!(
                 "GLCOL_BACKEND_GL_SELECT needs glRenderMode(GL_SELECT), which a {} context does \
@@ -94,6 +94,7 @@ impl GlSelectSelector {
         if clip_planes(&gl) < 3 {
             return Err(unavailable("fewer than 3 user clip planes"));
         }
+        gl.adopt_context(USES)?;
         Ok(GlSelectSelector {
             gl,
             s: Scratch::default(),
@@ -214,6 +215,19 @@ impl Selector for GlSelectSelector {
 
     fn engine(&mut self) -> Engine<'_> {
         Engine::Steps(self)
+    }
+
+    /// Holds nothing to refresh, but a query is a GL-backed call: refused (GL_UNAVAILABLE)
+    /// without the scene's context current, even one that would ask the GL nothing.
+    fn prepare(
+        &mut self,
+        _meshes: &mut std::collections::BTreeMap<u32, crate::mesh::Mesh>,
+    ) -> Result<()> {
+        self.gl.check_current()
+    }
+
+    fn release(&mut self) {
+        self.gl.release_sentinel();
     }
 }
 

@@ -281,8 +281,9 @@ pub trait Selector: Send {
     /// Mesh `id` was destroyed.
     fn mesh_destroyed(&mut self, _id: u32) {}
 
-    /// From now on mesh `id` reads its positions from the host's GL buffer object (GL
-    /// backends that can; the others answer Unsupported).
+    /// From now on mesh `id` reads its positions from the host's GL buffer object
+    /// (GL_COMPUTE; the CPU backend when AUTO chose it on a GL context, reading it back at
+    /// each query; the others answer Unsupported).
     fn bind_gl_buffer(
         &mut self,
         _id: u32,
@@ -313,7 +314,8 @@ pub trait Selector: Send {
 /// Makes the backend a scene asks for, loading GL through `gpa` for the current context.
 /// AUTO (as API.md says): the CPU when there is no loader, no usable context or a software
 /// renderer (llvmpipe, softpipe, SwiftShader); GL_COMPUTE on a hardware GL 4.3+ context;
-/// the CPU otherwise.
+/// the CPU otherwise. A CPU chosen on a GL context keeps its entry points, so that meshes
+/// can still be bound to host buffers (read back at each query).
 ///
 /// # Safety
 /// `gpa`, when given, must be a GL loader for the calling thread's current context, called
@@ -344,7 +346,9 @@ pub unsafe fn create(
         Err(e) => return Err(Error::new(e.kind, format!("{name}: {}", e.message))),
     };
     match req {
-        Request::Auto if gl.info.software() || !gl.info.compute => Ok(Box::new(CpuSelector::new())),
+        Request::Auto if gl.info.software() || !gl.info.compute => {
+            Ok(Box::new(CpuSelector::with_gl(gl)))
+        }
         Request::Auto => match GlComputeSelector::new(gl) {
             Ok(s) => Ok(Box::new(s)),
             Err(_) => Ok(Box::new(CpuSelector::new())),

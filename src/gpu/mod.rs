@@ -109,8 +109,37 @@ pub struct Gl {
     wide: Wide,
     /// What the context is.
     pub info: GlInfo,
+    /// The buffer object that tells the scene's context (and those sharing its objects)
+    /// from any other: `None` until [`Gl::adopt_context`].
+    sentinel: Option<Sentinel>,
 }
 
+/// A buffer object of ours, made in the scene's context, that no other context sees unless
+/// it shares the scene's objects: checked before every GL-backed call
+/// ([`Gl::check_current`]). A name alone proves nothing (an unshared context may have a
+/// buffer of the same name), so the buffer carries a label unique in the process (where
+/// the GL has object labels) and a size and usage of its own.
+#[derive(Clone, Debug)]
+struct Sentinel {
+    name: glow::NativeBuffer,
+    label: String,
+    size: i32,
+    /// What the backend uses: a sharing context of another kind must offer it.
+    uses: state::Uses,
+}
+
+/// The usage the sentinel is created with (one hosts rarely pick).
+const SENTINEL_USAGE: u32 = glow::STREAM_COPY;
+
+/// The message of a call made with no context current.
+const NO_CONTEXT: &str = "no GL context is current on this thread: make the scene's context (or \
+     one sharing its objects) current before a GL-backed call";
+/// glGetString (GL 1.0), called by hand: glow's turns NULL (no current context) into a
+/// crash.
+type GetString = unsafe extern "system" fn(u32) -> *const u8;
+/// glGetObjectLabel (GL 4.3 or KHR_debug), called by hand: glow's panics on a label that
+/// is not UTF-8 (any host object may be asked about when the wrong context is current).
+type GetObjectLabel = unsafe extern "system" fn(u32, u32, i32, *mut i32, *mut u8);
 /// glBindBufferRange (GL 3.0).
 type BindBufferRange = unsafe extern "system" fn(u32, u32, u32, isize, isize);
 /// glGetBufferParameteri64v (GL 3.2).
@@ -120,6 +149,8 @@ type GetBufferParameteri64v = unsafe extern "system" fn(u32, u32, *mut i64);
 /// `GLintptr` / `GLsizeiptr` / `GLint64` (a buffer range past 2 GiB would wrap).
 #[derive(Clone, Copy, Default)]
 struct Wide {
+    get_string: Option<GetString>,
+    get_object_label: Option<GetObjectLabel>,
     bind_buffer_range: Option<BindBufferRange>,
     get_buffer_parameter_i64v: Option<GetBufferParameteri64v>,
 }
@@ -129,12 +160,19 @@ type Lookup<'a> = &'a dyn Fn(&CStr) -> *const c_void;
 
 impl Wide {
     /// The entry points the context's version has.
-    fn load(lookup: Lookup<'_>, version: (u32, u32)) -> Wide {
+    fn load(lookup: Lookup<'_>, version: (u32, u32), khr_debug: bool) -> Wide {
         let find = |name: &CStr, since: (u32, u32)| {
             let p = lookup(name);
             (version >= since && !p.is_null()).then_some(p)
         };
+        let labels = if khr_debug { (1, 0) } else { (4, 3) };
         Wide {
+            // SAFETY: as below.
+            get_string: find(c"glGetString", (1, 0))
+                .map(|p| unsafe { std::mem::transmute::<*const c_void, GetString>(p) }),
+            // SAFETY: as below.
+            get_object_label: find(c"glGetObjectLabel", labels)
+                .map(|p| unsafe { std::mem::transmute::<*const c_void, GetObjectLabel>(p) }),
             // SAFETY: non-NULL addresses the loader gave for these names on a context of
             // the version that has them; the types are their C signatures.
             bind_buffer_range: find(c"glBindBufferRange", (3, 0))
@@ -156,7 +194,6 @@ fn desktop_version(lookup: Lookup<'_>) -> Result<String> {
             "get_proc_address returned NULL for glGetString: not a GL loader?",
         ));
     }
-    type GetString = unsafe extern "system" fn(u32) -> *const u8;
     // SAFETY: a non-NULL address the loader gave for glGetString, whose signature this is;
     // calling it with GL_VERSION on the thread whose context the loader serves is valid
     // (NULL when no context is current, checked).
@@ -179,6 +216,158 @@ fn desktop_version(lookup: Lookup<'_>) -> Result<String> {
         )));
     }
     Ok(version_string)
+}
+
+/// A host's buffer object that a mesh reads its positions from
+/// (`glcol_mesh_bind_gl_buffer`): vertex `i` is three floats at byte `offset + i * stride`.
+/// Checked when bound and again before every use, since the host may re-specify, map or
+/// delete its buffer at any time.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HostBuffer {
+    /// The host's buffer name.
+    pub buffer: u32,
+    /// Byte offset of vertex 0.
+    pub offset: u64,
+    /// Bytes from one vertex to the next (>= 12).
+    pub stride: u64,
+    /// Vertices it holds.
+    pub vertices: u64,
+    /// Bytes the buffer must hold: `offset + (vertices - 1) * stride + 12`.
+    pub need: u64,
+}
+
+/// When a [`HostBuffer`] is checked (its messages differ).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HostCheck {
+    /// At `glcol_mesh_bind_gl_buffer`.
+    Bind,
+    /// Before a query reads it, for mesh `id`.
+    Use(u32),
+}
+
+impl HostBuffer {
+    /// Checks the layout (no GL): `stride` 0 means packed (12); offset and stride multiples
+    /// of 4, stride >= 12, sizes that fit 64 bits.
+    pub fn new(buffer: u32, offset: usize, stride: usize, vertices: usize) -> Result<HostBuffer> {
+        let stride = if stride == 0 { 12 } else { stride };
+        if stride < 12 || stride % 4 != 0 || offset % 4 != 0 {
+            return Err(Error::invalid(format!(
+                "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
+            )));
+        }
+        let (offset, stride, vertices) = (offset as u64, stride as u64, vertices as u64);
+        let need = vertices
+            .checked_sub(1)
+            .map_or(Some(0), |n| n.checked_mul(stride)?.checked_add(12))
+            .and_then(|n| n.checked_add(offset))
+            .ok_or_else(|| Error::invalid("offset + vertex_count * stride overflows"))?;
+        Ok(HostBuffer {
+            buffer,
+            offset,
+            stride,
+            vertices,
+            need,
+        })
+    }
+
+    /// Checks the buffer in the current context: a buffer object, not mapped, holding
+    /// `need` bytes; INVALID_ARGUMENT saying which otherwise (naming the mesh and the
+    /// sizes). Raises no GL error. Binds COPY_READ_BUFFER (GL 3.1), so it runs inside a
+    /// [`state::StateGuard`], which restores it.
+    pub fn check(&self, gl: &Gl, when: HostCheck) -> Result<()> {
+        let g = &gl.gl;
+        let b = self.buffer;
+        let who = match when {
+            HostCheck::Bind => format!("gl_buffer {b}"),
+            HostCheck::Use(id) => format!("mesh {id}: its bound gl_buffer {b}"),
+        };
+        let name = buffer(b);
+        // SAFETY: the scene's context is current (the guard checked it); glIsBuffer takes
+        // any name, and the buffer is bound and asked about only when it is one.
+        let (size, mapped) = unsafe {
+            if name.is_none_or(|n| !g.is_buffer(n)) {
+                return Err(Error::invalid(match when {
+                    HostCheck::Bind => format!("{who} is not a buffer object of this context"),
+                    HostCheck::Use(_) => format!(
+                        "{who} is no longer a buffer object of this context (deleted?); bind \
+                         another or give positions with glcol_mesh_update_positions"
+                    ),
+                }));
+            }
+            g.bind_buffer(glow::COPY_READ_BUFFER, name);
+            let param = |p| g.get_buffer_parameter_i32(glow::COPY_READ_BUFFER, p);
+            // A persistent mapping (GL 4.4) may stay while the GL uses the buffer.
+            let mapped = param(glow::BUFFER_MAPPED) != 0
+                && param(glow::BUFFER_ACCESS_FLAGS) as u32 & glow::MAP_PERSISTENT_BIT == 0;
+            (gl.buffer_size(glow::COPY_READ_BUFFER), mapped)
+        };
+        if size < self.need {
+            let now = if when == HostCheck::Bind { "" } else { "now " };
+            return Err(Error::invalid(format!(
+                "{who} {now}holds {size} bytes; {} are needed for {} vertices at offset {}, \
+                 stride {}{}",
+                self.need,
+                self.vertices,
+                self.offset,
+                self.stride,
+                if when == HostCheck::Bind {
+                    ""
+                } else {
+                    " (re-specified smaller since glcol_mesh_bind_gl_buffer?)"
+                }
+            )));
+        }
+        if mapped {
+            return Err(Error::invalid(format!(
+                "{who} is mapped (not persistently); unmap it before the call"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Reads the bytes `offset .. need` back into `out` (glGetBufferSubData, after
+    /// glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT) so that the host's shader writes are
+    /// seen): a sync point. After [`HostBuffer::check`], inside a state guard.
+    pub fn read(&self, gl: &Gl, out: &mut Vec<u8>) -> Result<()> {
+        let len = usize::try_from(self.need - self.offset).map_err(|_| {
+            Error::new(
+                ErrorKind::OutOfMemory,
+                "the bound buffer's positions do not fit in memory",
+            )
+        })?;
+        let offset = i32::try_from(self.offset).map_err(|_| {
+            Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "gl_buffer {}: offset {} is past the 2 GiB glGetBufferSubData takes here",
+                    self.buffer, self.offset
+                ),
+            )
+        })?;
+        out.clear();
+        crate::error::try_reserve(out, len, "the bound buffer's positions")?;
+        out.resize(len, 0);
+        let g = &gl.gl;
+        // SAFETY: the scene's context is current and the buffer holds `need` bytes, is
+        // not mapped (`check`); glow passes `out`'s own length.
+        unsafe {
+            if gl.info.version >= (4, 2) {
+                g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+            }
+            g.bind_buffer(glow::COPY_READ_BUFFER, buffer(self.buffer));
+            g.get_buffer_sub_data(glow::COPY_READ_BUFFER, offset, out);
+        }
+        gl.check("reading positions back from a bound gl_buffer")
+    }
+}
+
+/// (major, minor) at the start of a GL_VERSION string ((0, 0) when there is none).
+fn parse_version(v: &str) -> (u32, u32) {
+    let mut it = v
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().unwrap_or(0));
+    (it.next().unwrap_or(0), it.next().unwrap_or(0))
 }
 
 /// (core profile, compatibility profile) of the current context.
@@ -272,8 +461,14 @@ impl Gl {
             vendor,
             version_string,
         };
-        let wide = Wide::load(&lookup, version);
-        Ok(Gl { gl, ff, wide, info })
+        let wide = Wide::load(&lookup, version, exts.contains("GL_KHR_debug"));
+        Ok(Gl {
+            gl,
+            ff,
+            wide,
+            info,
+            sentinel: None,
+        })
     }
 
     /// The fixed-function entry points (GL_SELECT backend only creates itself with them).
@@ -281,6 +476,177 @@ impl Gl {
         self.ff
             .as_ref()
             .expect("fixed-function entry points checked at creation")
+    }
+
+    /// Makes this `Gl` the scene's: creates the sentinel buffer in the current context
+    /// (saving and restoring the host's state as `uses` says). From then on every
+    /// [`state::StateGuard`] refuses to work unless [`Gl::check_current`] passes.
+    pub fn adopt_context(&mut self, uses: state::Uses) -> Result<()> {
+        let guard = state::StateGuard::enter(self, uses)?;
+        // SAFETY: the context this was loaded for is current (the guard checked that one
+        // is; a scene is created with its context current: the C API's contract).
+        let made = unsafe { self.make_sentinel(uses) };
+        let done = guard.finish();
+        let sentinel = made?;
+        if let Err(e) = done {
+            // SAFETY: as above; the buffer is ours, bound nowhere the host keeps.
+            unsafe { self.gl.delete_buffer(sentinel.name) };
+            return Err(e);
+        }
+        self.sentinel = Some(sentinel);
+        Ok(())
+    }
+
+    /// Has [`Gl::adopt_context`] made this the scene's GL?
+    pub fn adopted(&self) -> bool {
+        self.sentinel.is_some()
+    }
+
+    /// The sentinel: a buffer of a size and label of its own (the guard restores the
+    /// ARRAY_BUFFER binding used to size it).
+    ///
+    /// # Safety
+    /// The context this was loaded for is current on this thread, inside a state guard.
+    unsafe fn make_sentinel(&self, uses: state::Uses) -> Result<Sentinel> {
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let t = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos() as u64);
+        let nonce = (t ^ u64::from(std::process::id()) << 32)
+            .wrapping_add(n.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let size = 16 * (1 + (nonce % 1021) as i32) + 4;
+        let label = format!("glcollide scene {nonce:016x}-{n}");
+        let g = &self.gl;
+        // SAFETY: the caller's contract; the buffer is ours, made here.
+        unsafe {
+            let name = g.create_buffer().map_err(gl_err)?;
+            g.bind_buffer(glow::ARRAY_BUFFER, Some(name));
+            g.buffer_data_size(glow::ARRAY_BUFFER, size, SENTINEL_USAGE);
+            if self.wide.get_object_label.is_some() {
+                g.object_label(glow::BUFFER, name.0.get(), Some(&label));
+            }
+            if let Err(e) = self.check_alloc("creating the scene's sentinel buffer") {
+                g.delete_buffer(name);
+                return Err(e);
+            }
+            Ok(Sentinel {
+                name,
+                label,
+                size,
+                uses,
+            })
+        }
+    }
+
+    /// Deletes the sentinel when the scene's context (or one sharing its objects) is
+    /// current; otherwise leaves it (deleting by name there could delete a host's buffer).
+    pub fn release_sentinel(&mut self) {
+        if self.check_current().is_err() {
+            return;
+        }
+        if let Some(s) = self.sentinel.take() {
+            // SAFETY: checked just above: the current context sees our sentinel, so the
+            // name is ours there; deleting a buffer bound nowhere changes no host state.
+            unsafe { self.gl.delete_buffer(s.name) };
+        }
+    }
+
+    /// `Ok` when a context is current on this thread and it is the scene's or one sharing
+    /// its objects (it sees the sentinel with our label, size and usage) and of the kind
+    /// the backend needs; else GL_UNAVAILABLE saying which, before anything is touched.
+    /// Raises no GL error (it asks glIsBuffer before anything about the name), and leaves
+    /// the host's state and pending errors as they were.
+    pub fn check_current(&self) -> Result<()> {
+        let version = self.current_version()?;
+        let Some(s) = &self.sentinel else {
+            return Ok(()); // being created: its context is current by contract
+        };
+        if !self.sees(s) {
+            return Err(unavailable(format!(
+                "wrong GL context current: it is not the context the scene was created with \
+                 (\"{}\", {}), nor one sharing its objects; make that context current",
+                self.info.version_string, self.info.renderer
+            )));
+        }
+        if version != self.info.version_string {
+            self.check_kind(&version, s.uses)?;
+        }
+        Ok(())
+    }
+
+    /// GL_VERSION of the current context, or the no-context error.
+    fn current_version(&self) -> Result<String> {
+        let Some(get_string) = self.wide.get_string else {
+            return Err(unavailable(NO_CONTEXT));
+        };
+        // SAFETY: glGetString as loaded; NULL when no context is current (checked).
+        let v = unsafe { get_string(glow::VERSION) };
+        if v.is_null() {
+            return Err(unavailable(NO_CONTEXT));
+        }
+        // SAFETY: a non-NULL answer of glGetString is a NUL-terminated string.
+        Ok(unsafe { CStr::from_ptr(v.cast()) }
+            .to_string_lossy()
+            .into_owned())
+    }
+
+    /// Does the current context see sentinel `s` as we made it?
+    fn sees(&self, s: &Sentinel) -> bool {
+        let g = &self.gl;
+        // SAFETY: a context is current (checked by the caller); glIsBuffer takes any name
+        // and raises nothing; the name is bound (and the host's binding put back) only
+        // when it is a buffer object of the current context, so no call raises an error.
+        unsafe {
+            if !g.is_buffer(s.name) {
+                return false;
+            }
+            if let Some(get_label) = self.wide.get_object_label {
+                let mut buf = [0u8; 64];
+                let mut len = 0i32;
+                get_label(
+                    glow::BUFFER,
+                    s.name.0.get(),
+                    buf.len() as i32,
+                    &mut len,
+                    buf.as_mut_ptr(),
+                );
+                let len = (len.max(0) as usize).min(buf.len());
+                if &buf[..len] != s.label.as_bytes() {
+                    return false;
+                }
+            }
+            let host = g.get_parameter_i32(glow::ARRAY_BUFFER_BINDING) as u32;
+            g.bind_buffer(glow::ARRAY_BUFFER, Some(s.name));
+            let size = g.get_buffer_parameter_i32(glow::ARRAY_BUFFER, glow::BUFFER_SIZE);
+            let usage = g.get_buffer_parameter_i32(glow::ARRAY_BUFFER, glow::BUFFER_USAGE);
+            g.bind_buffer(glow::ARRAY_BUFFER, buffer(host));
+            size == s.size && usage as u32 == SENTINEL_USAGE
+        }
+    }
+
+    /// A context sharing the scene's objects but of another version or profile: can it
+    /// run this backend?
+    fn check_kind(&self, version: &str, uses: state::Uses) -> Result<()> {
+        let v = parse_version(version);
+        let wrong = |why: &str| {
+            Err(unavailable(format!(
+                "wrong GL context current: it shares the scene's objects but is \"{version}\" \
+                 ({why}); the scene was created with \"{}\"",
+                self.info.version_string
+            )))
+        };
+        if uses.indexed_bindings > 0 && v < compute_gl_version() {
+            return wrong("GL_COMPUTE needs GL 4.3");
+        }
+        if uses.fixed_function && v >= (3, 2) {
+            // SAFETY: a GL 3.2 query on the current context (a context is current).
+            let mask = unsafe { self.gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) } as u32;
+            if mask & glow::CONTEXT_COMPATIBILITY_PROFILE_BIT == 0 {
+                return wrong("GL_SELECT needs a compatibility profile");
+            }
+        }
+        Ok(())
     }
 
     /// glBindBufferRange with 64-bit offset and size (glow's take `i32`). Needs GL 3.0;

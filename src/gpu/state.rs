@@ -108,7 +108,12 @@ impl<'a> StateGuard<'a> {
     /// Takes the host's pending error and saves the state `uses` says will be touched.
     /// Fails (changing nothing) when a compatibility context is in GL_SELECT or
     /// GL_FEEDBACK render mode, which no call could undo exactly.
+    ///
+    /// First of all, [`Gl::check_current`]: with no context, or a context that is neither
+    /// the scene's nor one sharing its objects, it fails with GL_UNAVAILABLE before any
+    /// GL call that could change or raise anything.
     pub fn enter(gl: &'a Gl, uses: Uses) -> Result<StateGuard<'a>> {
+        gl.check_current()?;
         let mut guard = StateGuard {
             gl,
             saved: None,
@@ -153,19 +158,33 @@ impl Drop for StateGuard<'_> {
     }
 }
 
-/// Raises GL error `e` again (the kinds a call can raise on purpose).
+/// Raises GL error `e` again (the kinds a call can raise on purpose), with the debug
+/// output (GL 4.3 / KHR_debug) off meanwhile: the host's glGetError sees its error again,
+/// and its debug callback or log gets no message of ours (the host's own call already
+/// reported it).
 ///
 /// # Safety
 /// `g` was loaded for the context current on this thread.
 unsafe fn reraise(g: &glow::Context, e: u32) {
+    if e == glow::NO_ERROR {
+        return;
+    }
     // SAFETY: the caller's contract; each call is invalid on purpose (enum 0, a negative
-    // viewport, a VAO name never generated) and changes no state.
+    // viewport, a VAO name never generated) and changes no state; GL_DEBUG_OUTPUT is put
+    // back as it was.
     unsafe {
+        let quiet = g.supports_debug() && g.is_enabled(glow::DEBUG_OUTPUT);
+        if quiet {
+            g.disable(glow::DEBUG_OUTPUT);
+        }
         match e {
             glow::INVALID_ENUM => g.enable(0),
             glow::INVALID_VALUE => g.viewport(0, 0, -1, -1),
             glow::INVALID_OPERATION => g.bind_vertex_array(vertex_array(0xFFFF_FFF0)),
             _ => {}
+        }
+        if quiet {
+            g.enable(glow::DEBUG_OUTPUT);
         }
     }
 }

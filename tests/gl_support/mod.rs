@@ -68,6 +68,29 @@ fn egl() -> Result<&'static (Display, Config), &'static str> {
 impl Ctx {
     /// A new context, current on this thread until dropped.
     pub fn new(profile: Profile) -> Ctx {
+        Ctx::make(profile, None)
+    }
+
+    /// A new context sharing `other`'s objects, current on this thread until dropped.
+    pub fn new_shared(profile: Profile, other: &Ctx) -> Ctx {
+        Ctx::make(profile, Some(other))
+    }
+
+    /// Makes this context current on this thread (surfaceless).
+    pub fn make_current(&self) {
+        self.context
+            .make_current_surfaceless()
+            .expect("eglMakeCurrent (surfaceless)");
+    }
+
+    /// Leaves no context current on this thread.
+    pub fn release_current(&self) {
+        self.context
+            .make_not_current_in_place()
+            .expect("eglMakeCurrent (no context)");
+    }
+
+    fn make(profile: Profile, share: Option<&Ctx>) -> Ctx {
         let (display, config) = egl().unwrap_or_else(|e| panic!("headless EGL: {e}"));
         let attributes = match profile {
             Profile::Core => ContextAttributesBuilder::new()
@@ -78,6 +101,10 @@ impl Ctx {
             Profile::Compat => ContextAttributesBuilder::new()
                 .with_context_api(ContextApi::OpenGl(None))
                 .with_profile(GlProfile::Compatibility),
+        };
+        let attributes = match share {
+            Some(other) => attributes.with_sharing(&other.context),
+            None => attributes,
         }
         .build(None);
         let context = unsafe { display.create_context(config, &attributes) }

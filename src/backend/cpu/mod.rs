@@ -16,9 +16,13 @@
 mod lanes;
 mod steps;
 
+use std::collections::BTreeMap;
+
 use super::{Backend, Contact, Engine, QueryMeshes, QueryStats, Selector, WholeQuery};
-use crate::error::Result;
-use crate::mesh::Mesh;
+use crate::error::{Error, ErrorKind, Result};
+use crate::gpu::state::{StateGuard, Uses};
+use crate::gpu::{Gl, HostBuffer, HostCheck};
+use crate::mesh::{Mesh, Positions};
 use lanes::Lanes;
 
 /// Polygon boxes of one mesh, computed a whole leaf at a time on first use and valid while
@@ -73,12 +77,43 @@ pub struct CpuSelector {
     cache_of: std::collections::HashMap<u32, usize>,
     /// Query mesh slot -> index in `caches`.
     slot_cache: Vec<usize>,
+    /// AUTO chose the CPU on a GL context: meshes may read their positions from the host's
+    /// buffer objects, read back at each query.
+    host: Option<Box<HostPositions>>,
 }
+
+/// Host buffers a CPU scene reads back (`glcol_mesh_bind_gl_buffer` under AUTO).
+struct HostPositions {
+    /// The GL of the context AUTO was created in; its sentinel is made at the first bind.
+    gl: Gl,
+    bound: BTreeMap<u32, HostBuffer>,
+    /// Scratch for the bytes read back.
+    bytes: Vec<u8>,
+}
+
+/// The state reading a buffer back touches (the COPY_READ_BUFFER binding, common state).
+const READ_BACK: Uses = Uses {
+    fixed_function: false,
+    indexed_bindings: 0,
+};
 
 impl CpuSelector {
     /// A CPU backend with empty caches.
     pub fn new() -> CpuSelector {
         CpuSelector::default()
+    }
+
+    /// A CPU backend that AUTO chose on a GL context (software renderer, or GL below 4.3):
+    /// it can also read meshes' positions from the host's buffer objects.
+    pub fn with_gl(gl: Gl) -> CpuSelector {
+        CpuSelector {
+            host: Some(Box::new(HostPositions {
+                gl,
+                bound: BTreeMap::new(),
+                bytes: Vec::new(),
+            })),
+            ..CpuSelector::default()
+        }
     }
 
     /// Maps the query's meshes to their caches (made or revalidated). A cache lives until
@@ -112,7 +147,96 @@ impl Selector for CpuSelector {
         Engine::Whole(self)
     }
 
+    /// Bound meshes: checks each buffer and reads it back into the mesh (a sync point:
+    /// glGetBufferSubData waits for the host's GPU work on it), inside a state guard that
+    /// first checks the scene's context is current.
+    fn prepare(&mut self, meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
+        let Some(h) = self.host.as_deref_mut() else {
+            return Ok(());
+        };
+        if h.bound.is_empty() {
+            return Ok(());
+        }
+        let HostPositions { gl, bound, bytes } = h;
+        let guard = StateGuard::enter(gl, READ_BACK)?;
+        let mut read = || -> Result<()> {
+            for (&id, hb) in bound.iter() {
+                let Some(m) = meshes.get_mut(&id).filter(|m| m.enabled) else {
+                    continue;
+                };
+                hb.check(gl, HostCheck::Use(id))?;
+                hb.read(gl, bytes)?;
+                let pos = Positions::new(bytes, m.vertex_count(), hb.stride as usize)?;
+                if let Some(v) = pos.first_non_finite() {
+                    return Err(Error::new(
+                        ErrorKind::NonFinite,
+                        format!(
+                            "mesh {id}: its bound GL buffer holds a NaN or infinite coordinate \
+                             (vertex {v})"
+                        ),
+                    ));
+                }
+                m.update_positions(0, pos)?;
+            }
+            Ok(())
+        };
+        let r = read();
+        let done = guard.finish();
+        r?;
+        done
+    }
+
+    fn bind_gl_buffer(
+        &mut self,
+        id: u32,
+        mesh: &Mesh,
+        buffer: u32,
+        offset: usize,
+        stride: usize,
+    ) -> Result<()> {
+        let Some(h) = self.host.as_deref_mut() else {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                "glcol_mesh_bind_gl_buffer needs GLCOL_BACKEND_GL_COMPUTE, or AUTO with a GL \
+                 loader; this scene was asked for the CPU backend",
+            ));
+        };
+        let hb = HostBuffer::new(buffer, offset, stride, mesh.vertex_count())?;
+        // The context current at the first bind becomes the scene's (checked from then on).
+        if !h.gl.adopted() {
+            h.gl.adopt_context(READ_BACK)?;
+        }
+        let guard = StateGuard::enter(&h.gl, READ_BACK)?;
+        let r = hb.check(&h.gl, HostCheck::Bind);
+        let done = guard.finish();
+        r?;
+        done?;
+        h.bound.insert(id, hb);
+        Ok(())
+    }
+
+    fn gl_bound(&self, id: u32) -> bool {
+        self.host
+            .as_ref()
+            .is_some_and(|h| h.bound.contains_key(&id))
+    }
+
+    fn mesh_updated(&mut self, id: u32) {
+        if let Some(h) = self.host.as_deref_mut() {
+            h.bound.remove(&id);
+        }
+    }
+
+    fn release(&mut self) {
+        if let Some(h) = self.host.as_deref_mut() {
+            h.gl.release_sentinel();
+        }
+    }
+
     fn mesh_destroyed(&mut self, id: u32) {
+        if let Some(h) = self.host.as_deref_mut() {
+            h.bound.remove(&id);
+        }
         if let Some(i) = self.cache_of.remove(&id) {
             self.caches.swap_remove(i);
             if let Some(moved) = self.caches.get(i) {
