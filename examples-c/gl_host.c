@@ -8,8 +8,11 @@
  * GL_COMPUTE) it runs the README demo (a blade in a deforming gallbladder, epsilon 0.001):
  * every frame it draws the organ, updates both meshes and queries glcollide, checks that
  * its GL state survived the call, and draws the contacts. It prints the median query time
- * per backend, checks that the three backends found the same contacts, and writes the last
- * frame to a PNG with the colliding polygons in red (organ) and yellow (blade). */
+ * per backend, checks that the three backends found the same contacts, and writes the frame
+ * with the most contacts to a PNG with the colliding polygons in red (organ) and yellow
+ * (blade) and, from glcol_query_geometry, each intersecting pair's intersection segment
+ * (point_a to point_b, green) and its separating normal (cyan, from the segment's midpoint,
+ * NORMAL_LEN mm long: the depths are far below a pixel), drawn over everything. */
 #define GL_GLEXT_PROTOTYPES 1
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -26,6 +29,7 @@
 #define W 640
 #define H 480
 #define EPSILON 0.001f
+#define NORMAL_LEN 1.5f
 
 #define CHECK(call)                                                                       \
     do {                                                                                  \
@@ -255,7 +259,7 @@ int main(int argc, char **argv) {
     static const GlcolBackend backends[3] = {GLCOL_BACKEND_CPU, GLCOL_BACKEND_GL_SELECT, GLCOL_BACKEND_GL_COMPUTE};
     static const char *names[3] = {"CPU", "GL_SELECT", "GL_COMPUTE"};
     double medians[3];
-    size_t total[3] = {0, 0, 0}, best_n = 0;
+    size_t total[3] = {0, 0, 0}, best_n = 0, best_drawn = 0;
     uint32_t hash[3] = {0, 0, 0};
     unsigned char *pixels = malloc((size_t)W * H * 4);
     unsigned char *organ_mark = calloc(organ.polygon_count, 1), *blade_mark = calloc(blade.polygon_count, 1);
@@ -334,6 +338,37 @@ int main(int argc, char **argv) {
             draw_mesh(om, 0.85f, 0.55f, 0.5f, organ_mark, 1.0f, 0.1f, 0.1f);
             draw_mesh(bm, 0.55f, 0.65f, 0.9f, blade_mark, 1.0f, 0.9f, 0.1f);
             glDepthFunc(GL_LESS);
+
+            /* The contacts' geometry, over everything: intersection segments and normals
+             * (band-only pairs, which do not intersect, are not drawn). */
+            const GlcolContactGeometry *geo = NULL;
+            size_t gn = 0;
+            CHECK(glcol_query_geometry(scene, &geo, &gn));
+            if (gn != n) {
+                fprintf(stderr, "%s frame %d: %zu geometry entries for %zu contacts\n", names[bi], f, gn, n);
+                return 1;
+            }
+            size_t drawn = 0;
+            glDisable(GL_DEPTH_TEST);
+            glLineWidth(2.0f);
+            glBegin(GL_LINES);
+            for (size_t i = 0; i < gn; i++) {
+                const GlcolContactGeometry *g = &geo[i];
+                if (!(g->flags & GLCOL_CONTACT_INTERSECTING)) continue;
+                float m[3];
+                for (int k = 0; k < 3; k++) m[k] = 0.5f * (g->point_a[k] + g->point_b[k]);
+                glColor3f(0.1f, 1.0f, 0.2f);
+                glVertex3fv(g->point_a);
+                glVertex3fv(g->point_b);
+                glColor3f(0.1f, 0.9f, 1.0f);
+                glVertex3fv(m);
+                glVertex3f(m[0] + NORMAL_LEN * g->normal[0], m[1] + NORMAL_LEN * g->normal[1],
+                           m[2] + NORMAL_LEN * g->normal[2]);
+                drawn++;
+            }
+            glEnd();
+            glLineWidth(1.0f);
+            glEnable(GL_DEPTH_TEST);
             total[bi] += n;
             hash[bi] = crc(hash[bi], (const unsigned char *)&n, sizeof n);
             for (size_t i = 0; i < n; i++) { /* mesh ids differ between scenes: polygons only */
@@ -342,6 +377,7 @@ int main(int argc, char **argv) {
             }
             if (bi == 0 && (f == 0 || n > best_n)) { /* the picture: the frame with most contacts */
                 best_n = n;
+                best_drawn = drawn;
                 glPixelStorei(GL_PACK_ALIGNMENT, 1);
                 glReadPixels(0, 0, W, H, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
                 glPixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -361,8 +397,9 @@ int main(int argc, char **argv) {
         fprintf(stderr, "cannot write %s\n", out);
         return 1;
     }
-    printf("wrote %s (%dx%d, the frame with most contacts, %zu): organ contacts red, blade contacts yellow\n",
-           out, W, H, best_n);
+    printf("wrote %s (%dx%d, the frame with most contacts, %zu): organ contacts red, blade contacts yellow, "
+           "%zu intersection segments green, their normals cyan (%.1f mm)\n",
+           out, W, H, best_n, best_drawn, (double)NORMAL_LEN);
     printf("host GL state after every glcollide call: %s\n", state_ok ? "unchanged" : "CHANGED");
 
     glDeleteFramebuffers(1, &fbo);

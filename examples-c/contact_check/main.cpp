@@ -1,0 +1,852 @@
+// contact_check: glcollide's contact geometry (glcol_query_geometry, issue 13) against an exact
+// reference built on CGAL's exact constructions (Epeck: GMP rationals behind interval filters).
+//
+// Only the public header and libglcollide are used for glcollide (the peer harness supplies
+// the scenes of real meshes and the OBJ reader). For every reported pair (polygon a of A,
+// polygon b of B) the float coordinates glcollide got are taken as exact rationals and:
+//   flags         INTERSECTING == exact do_intersect of the closed polygons (quads: either
+//                 triangle; collinear triangles as the segment or point they are);
+//                 COPLANAR == intersecting and all distinct vertices in one plane (orient3d)
+//   points        intersecting: distance of point_a and point_b to the exact intersection set
+//                 (union of CGAL::intersection of the triangle sub-pairs) and |point_a -
+//                 point_b| against the set's exact diameter (its longest extent), in ulps of M
+//   depth         intersecting, not coplanar: against the exact separating-axis minimum,
+//                 min over axes u of overlap(u)^2 / |u|^2 (rationals; axes: the normals of every
+//                 vertex triple of either polygon and the crosses of every vertex-pair
+//                 direction of a with every one of b: for two triangles the 2 normals and the
+//                 9 edge-edge crosses; for a quad a superset of its hull's, so the minimum is
+//                 the hulls' penetration depth, as the header documents)
+//   separation    a translated by (depth + s) * normal (exact rationals, the float normal as
+//                 given) no longer meets b; for triangles, a translated by (depth - s) * normal
+//                 still meets b when depth > s. s = 8 ulps of E (see the rule below)
+//   normal        | |normal| - 1 | in ulps of 1; coplanar: the angle to a's exact normal
+//   band          (not intersecting) -depth against the exact distance (min over vertex-simplex
+//                 and segment-segment squared distances); point_a on a and point_b on b, and
+//                 dist(point_a, b), dist(point_b, a) against the exact distance (ulps of M);
+//                 normal: the exact separation of the two polygons along it,
+//                 min_a(a.n) - max_b(b.n), against the distance (ulps of E; a wrong direction
+//                 makes it negative)
+// Units (float ulps, ulp(x) = 2^(floor(log2 x) - 23)): M = the pair's largest coordinate
+// magnitude (a float point cannot be nearer than half an ulp of it), E = the pair's extent
+// (largest side of its box; depth and normal come from coordinate differences, exact in f64,
+// so their error scales with E, not M). Depth and distance errors are in ulps of
+// max(exact value, 2^-24 E): relative to the value, but never finer than the float
+// resolution of the pair's extent. The rule for separation: a float normal is within about
+// one float rounding (2^-24 rad) of the exact direction, which moves the depth needed along
+// it by up to about 2 E 2^-24; s = 8 ulp(E) covers that and depth's own rounding.
+// Fails (exit 1) on: any error above --limit ulps (default 8), a flag that is not the exact
+// one, a NaN or infinity, a non-separating translation, a reported count that differs from
+// the pair count, an intersecting depth < 0 or a band depth > 0.
+//
+//   contact_check [--meshes DIR] [--pairs N (3000 per family)] [--frames N (10 per mesh scene)]
+//                 [--limit ULPS (8)] [--only TEXT] [--inject]
+// --inject: self-test; the first intersecting pair of every family gets its depth raised by
+// 64 ulps (and its normal flipped); the run must then fail.
+#include "scenes.hpp"
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/intersections.h>
+#include <CGAL/squared_distance_3.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace peers;
+
+namespace {
+
+using K = CGAL::Exact_predicates_exact_constructions_kernel;
+using FT = K::FT;
+using Pt = K::Point_3;
+using Vec = K::Vector_3;
+using Seg = K::Segment_3;
+using Tri = K::Triangle_3;
+
+void check(GlcolStatus s, const char *what) {
+    if (s != GLCOL_STATUS_OK)
+        throw std::runtime_error(std::string(what) + ": " + glcol_status_name(s) + ": " + glcol_last_error_message());
+}
+
+double ulp32(double x) {
+    x = std::fabs(x);
+    if (!(x >= std::ldexp(1.0, -126))) return std::ldexp(1.0, -149);
+    return std::ldexp(1.0, std::ilogb(x) - 23);
+}
+
+// A closed triangle as what it is: a triangle (dim 2), a segment (1) or a point (0).
+struct Simplex {
+    int dim;
+    Pt p[3];
+};
+Simplex simplex(const Pt &a, const Pt &b, const Pt &c) {
+    if (!CGAL::collinear(a, b, c)) return {2, {a, b, c}};
+    Pt lo = a, hi = a;
+    for (const Pt *x : {&b, &c}) {
+        if (CGAL::compare_xyz(*x, lo) == CGAL::SMALLER) lo = *x;
+        if (CGAL::compare_xyz(*x, hi) == CGAL::LARGER) hi = *x;
+    }
+    if (lo == hi) return {0, {lo, lo, lo}};
+    return {1, {lo, hi, hi}};
+}
+
+// A polygon: 1 or 2 triangles (a quad (v0,v1,v2,v3) as (v0,v1,v2), (v0,v2,v3)), its
+// distinct vertices.
+struct Poly {
+    std::vector<Simplex> s;
+    std::vector<Pt> v;
+};
+Poly make_poly(const float *const *corner, int n) {
+    Poly P;
+    std::vector<Pt> c;
+    for (int i = 0; i < n; i++) c.emplace_back(double(corner[i][0]), double(corner[i][1]), double(corner[i][2]));
+    P.s.push_back(simplex(c[0], c[1], c[2]));
+    if (n == 4) P.s.push_back(simplex(c[0], c[2], c[3]));
+    for (const Pt &x : c)
+        if (std::find(P.v.begin(), P.v.end(), x) == P.v.end()) P.v.push_back(x);
+    return P;
+}
+Poly translated(const Poly &P, const Vec &t) {
+    Poly Q = P;
+    for (auto &s : Q.s)
+        for (auto &p : s.p) p = p + t;
+    for (auto &p : Q.v) p = p + t;
+    return Q;
+}
+
+bool meet(const Simplex &s, const Simplex &t) {
+    if (s.dim < t.dim) return meet(t, s);
+    switch (s.dim * 3 + t.dim) {
+    case 8: return CGAL::do_intersect(Tri(s.p[0], s.p[1], s.p[2]), Tri(t.p[0], t.p[1], t.p[2]));
+    case 7: return CGAL::do_intersect(Tri(s.p[0], s.p[1], s.p[2]), Seg(t.p[0], t.p[1]));
+    case 6: return Tri(s.p[0], s.p[1], s.p[2]).has_on(t.p[0]);
+    case 4: return CGAL::do_intersect(Seg(s.p[0], s.p[1]), Seg(t.p[0], t.p[1]));
+    case 3: return Seg(s.p[0], s.p[1]).has_on(t.p[0]);
+    default: return s.p[0] == t.p[0];
+    }
+}
+bool meet(const Poly &A, const Poly &B) {
+    for (auto &s : A.s)
+        for (auto &t : B.s)
+            if (meet(s, t)) return true;
+    return false;
+}
+
+// The exact intersection of two simplices that meet, as convex pieces (each its vertices).
+template <class R> void collect(const R &r, std::vector<std::vector<Pt>> &out) {
+    if (!r) return;
+    if (auto p = boost::get<Pt>(&*r)) out.push_back({*p});
+    else if (auto s = boost::get<Seg>(&*r)) out.push_back({s->source(), s->target()});
+}
+void pieces(const Simplex &s, const Simplex &t, std::vector<std::vector<Pt>> &out) {
+    if (s.dim < t.dim) return pieces(t, s, out);
+    switch (s.dim * 3 + t.dim) {
+    case 8: {
+        auto r = CGAL::intersection(Tri(s.p[0], s.p[1], s.p[2]), Tri(t.p[0], t.p[1], t.p[2]));
+        if (!r) return;
+        if (auto p = boost::get<Pt>(&*r)) out.push_back({*p});
+        else if (auto g = boost::get<Seg>(&*r)) out.push_back({g->source(), g->target()});
+        else if (auto T = boost::get<Tri>(&*r)) out.push_back({T->vertex(0), T->vertex(1), T->vertex(2)});
+        else if (auto v = boost::get<std::vector<Pt>>(&*r)) out.push_back(*v);
+        return;
+    }
+    case 7: collect(CGAL::intersection(Tri(s.p[0], s.p[1], s.p[2]), Seg(t.p[0], t.p[1])), out); return;
+    case 4: collect(CGAL::intersection(Seg(s.p[0], s.p[1]), Seg(t.p[0], t.p[1])), out); return;
+    default: out.push_back({t.p[0]}); return; // a point that lies on s
+    }
+}
+
+// Squared distances, written out in exact rationals (CGAL 5.5's squared_distance between two
+// Segment_3 was seen to be off by 1e-6 relative on a skew pair, so none of CGAL's distance
+// functions is used): point-segment by the clamped projection, point-triangle by the
+// projection onto the plane when it falls inside (exact signs) else the edges,
+// segment-segment by the lines' closest pair when it lies inside both, else the four
+// endpoint-segment distances.
+FT sq_point_segment(const Pt &x, const Pt &p0, const Pt &p1) {
+    Vec d = p1 - p0, w = x - p0;
+    FT dd = d * d;
+    if (dd == 0) return w * w;
+    FT t = (w * d) / dd;
+    if (t <= 0) return w * w;
+    if (t >= 1) return (x - p1) * (x - p1);
+    Vec r = w - d * t;
+    return r * r;
+}
+FT sq_point_triangle(const Pt &x, const Pt &a, const Pt &b, const Pt &c) {
+    Vec n = CGAL::cross_product(b - a, c - a);
+    bool inside = true;
+    const Pt *v[3] = {&a, &b, &c};
+    for (int e = 0; e < 3 && inside; e++)
+        inside = CGAL::cross_product(*v[(e + 1) % 3] - *v[e], x - *v[e]) * n >= 0;
+    if (inside) {
+        FT h = (x - a) * n;
+        return h * h / (n * n);
+    }
+    return std::min(sq_point_segment(x, a, b), std::min(sq_point_segment(x, b, c), sq_point_segment(x, c, a)));
+}
+FT sq_segment_segment(const Pt &p0, const Pt &p1, const Pt &q0, const Pt &q1) {
+    Vec d1 = p1 - p0, d2 = q1 - q0, w = p0 - q0;
+    FT a = d1 * d1, e = d2 * d2, b = d1 * d2, c = d1 * w, f = d2 * w, den = a * e - b * b;
+    if (den != 0) {
+        FT s = (b * f - c * e) / den, r = (a * f - b * c) / den;
+        if (s >= 0 && s <= 1 && r >= 0 && r <= 1) {
+            Vec g = w + d1 * s - d2 * r;
+            return g * g;
+        }
+    }
+    return std::min(std::min(sq_point_segment(p0, q0, q1), sq_point_segment(p1, q0, q1)),
+                    std::min(sq_point_segment(q0, p0, p1), sq_point_segment(q1, p0, p1)));
+}
+FT sq_point_simplex(const Pt &x, const Simplex &t) {
+    if (t.dim == 2) return sq_point_triangle(x, t.p[0], t.p[1], t.p[2]);
+    if (t.dim == 1) return sq_point_segment(x, t.p[0], t.p[1]);
+    return CGAL::squared_distance(x, t.p[0]);
+}
+FT sq_point_piece(const Pt &x, const std::vector<Pt> &p) {
+    if (p.size() == 1) return CGAL::squared_distance(x, p[0]);
+    if (p.size() == 2) return sq_point_segment(x, p[0], p[1]);
+    FT best = -1;
+    for (size_t i = 1; i + 1 < p.size(); i++) {
+        Simplex t = simplex(p[0], p[i], p[i + 1]);
+        FT d = sq_point_simplex(x, t);
+        if (best < 0 || d < best) best = d;
+    }
+    return best;
+}
+FT sq_point_poly(const Pt &x, const Poly &P) {
+    FT best = -1;
+    for (auto &s : P.s) {
+        FT d = sq_point_simplex(x, s);
+        if (best < 0 || d < best) best = d;
+    }
+    return best;
+}
+int edges(const Simplex &s, Seg *e) {
+    if (s.dim == 2) {
+        for (int i = 0; i < 3; i++) e[i] = Seg(s.p[i], s.p[(i + 1) % 3]);
+        return 3;
+    }
+    if (s.dim == 1) {
+        e[0] = Seg(s.p[0], s.p[1]);
+        return 1;
+    }
+    return 0;
+}
+// Squared distance of two disjoint simplices: min over vertex-simplex and edge-edge.
+FT sq_simplices(const Simplex &s, const Simplex &t) {
+    FT best = -1;
+    auto take = [&](const FT &d) {
+        if (best < 0 || d < best) best = d;
+    };
+    for (int i = 0; i <= s.dim; i++) take(sq_point_simplex(s.p[i], t));
+    for (int i = 0; i <= t.dim; i++) take(sq_point_simplex(t.p[i], s));
+    Seg es[3], et[3];
+    int ns = edges(s, es), nt = edges(t, et);
+    for (int i = 0; i < ns; i++)
+        for (int j = 0; j < nt; j++) take(sq_segment_segment(es[i].source(), es[i].target(), et[j].source(), et[j].target()));
+    return best;
+}
+
+bool all_coplanar(const std::vector<Pt> &v) {
+    for (size_t i = 0; i < v.size(); i++)
+        for (size_t j = i + 1; j < v.size(); j++)
+            for (size_t k = j + 1; k < v.size(); k++)
+                if (!CGAL::collinear(v[i], v[j], v[k])) {
+                    for (size_t l = 0; l < v.size(); l++)
+                        if (!CGAL::coplanar(v[i], v[j], v[k], v[l])) return false;
+                    return true;
+                }
+    return true; // all collinear
+}
+
+// Exact squared penetration depth of the hulls (see the header comment).
+FT sat_depth2(const Poly &A, const Poly &B) {
+    std::vector<Vec> axes, da, db;
+    auto triples = [&](const std::vector<Pt> &v) {
+        for (size_t i = 0; i < v.size(); i++)
+            for (size_t j = i + 1; j < v.size(); j++)
+                for (size_t k = j + 1; k < v.size(); k++) {
+                    Vec n = CGAL::cross_product(v[j] - v[i], v[k] - v[i]);
+                    if (n != CGAL::NULL_VECTOR) axes.push_back(n);
+                }
+    };
+    auto dirs = [](const std::vector<Pt> &v, std::vector<Vec> &d) {
+        for (size_t i = 0; i < v.size(); i++)
+            for (size_t j = i + 1; j < v.size(); j++) d.push_back(v[j] - v[i]);
+    };
+    triples(A.v);
+    triples(B.v);
+    dirs(A.v, da);
+    dirs(B.v, db);
+    for (auto &x : da)
+        for (auto &y : db) {
+            Vec n = CGAL::cross_product(x, y);
+            if (n != CGAL::NULL_VECTOR) axes.push_back(n);
+        }
+    FT best = -1;
+    for (auto &u : axes) {
+        FT amin = 0, amax = 0, bmin = 0, bmax = 0;
+        for (size_t i = 0; i < A.v.size(); i++) {
+            FT d = (A.v[i] - CGAL::ORIGIN) * u;
+            if (i == 0 || d < amin) amin = d;
+            if (i == 0 || d > amax) amax = d;
+        }
+        for (size_t i = 0; i < B.v.size(); i++) {
+            FT d = (B.v[i] - CGAL::ORIGIN) * u;
+            if (i == 0 || d < bmin) bmin = d;
+            if (i == 0 || d > bmax) bmax = d;
+        }
+        FT o = std::min(bmax - amin, amax - bmin);
+        if (o < 0) o = 0; // cannot happen for polygons that meet
+        FT d2 = o * o / u.squared_length();
+        if (best < 0 || d2 < best) best = d2;
+    }
+    return best < 0 ? FT(0) : best; // no axis: everything collinear (coplanar, not asked)
+}
+
+double dsqrt(const FT &x) { return std::sqrt(std::max(0.0, CGAL::to_double(x))); }
+
+// Worst errors of one family, in ulps (see the header comment).
+struct Stats {
+    std::string name;
+    long pairs = 0, inter = 0, copl = 0, band = 0, fails = 0;
+    double pt = 0, ext = 0, depth = 0, nlen = 0, cnorm = 0, bdist = 0, bpts = 0, bnorm = 0;
+    std::vector<std::string> msgs;
+    void fail(const std::string &m) {
+        fails++;
+        if (msgs.size() < 5) msgs.push_back(m);
+    }
+};
+
+std::string fmt1(float x) {
+    char b[40];
+    snprintf(b, sizeof b, "%a", double(x));
+    return b;
+}
+std::string fmt3(const float *x) { return "{" + fmt1(x[0]) + ", " + fmt1(x[1]) + ", " + fmt1(x[2]) + "}"; }
+
+// The two polygons' corners as C99 hex floats (exact), ready for a reproduction.
+std::string corners(const float *const *ca, int na, const float *const *cb, int nb) {
+    std::string o;
+    char b[128];
+    for (auto cs : {std::make_pair(ca, na), std::make_pair(cb, nb)}) {
+        o += "\n    {";
+        for (int i = 0; i < cs.second; i++) {
+            snprintf(b, sizeof b, "%s{%a, %a, %a}", i ? ", " : "", double(cs.first[i][0]), double(cs.first[i][1]),
+                     double(cs.first[i][2]));
+            o += b;
+        }
+        o += "}";
+    }
+    return o;
+}
+
+struct Checker {
+    double limit = 8;
+    bool inject = false;
+    bool injected = false;
+
+    void pair(Stats &S, const float *const *ca, int na, const float *const *cb, int nb, GlcolContactGeometry g,
+              const char *where) {
+        S.pairs++;
+        char buf[512];
+        auto bad = [&](const char *what, double v) {
+            snprintf(buf, sizeof buf, "%s: %s = %.3g", where, what, v);
+            S.fail(buf + corners(ca, na, cb, nb) +
+                   "\n    geometry: point_a " + fmt3(g.point_a) + " point_b " + fmt3(g.point_b) + " normal " +
+                   fmt3(g.normal) + " depth " + fmt1(g.depth));
+        };
+        Poly A = make_poly(ca, na), B = make_poly(cb, nb);
+        double M = 0, lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+        for (auto cs : {std::make_pair(ca, na), std::make_pair(cb, nb)})
+            for (int i = 0; i < cs.second; i++)
+                for (int k = 0; k < 3; k++) {
+                    double x = cs.first[i][k];
+                    M = std::max(M, std::fabs(x));
+                    lo[k] = std::min(lo[k], x);
+                    hi[k] = std::max(hi[k], x);
+                }
+        double E = std::max(hi[0] - lo[0], std::max(hi[1] - lo[1], hi[2] - lo[2]));
+        double uM = ulp32(M), uE = ulp32(E);
+        bool inter = meet(A, B);
+        if (inject && inter && !injected) {
+            injected = true;
+            g.depth += 64 * float(ulp32(std::max(double(g.depth), E * 0x1p-24)));
+            for (float &x : g.normal) x = -x;
+        }
+        const float *all[4] = {g.point_a, g.point_b, g.normal, &g.depth};
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < (i == 3 ? 1 : 3); k++)
+                if (!std::isfinite(all[i][k])) return bad("non-finite output", all[i][k]);
+        bool f_inter = g.flags & GLCOL_CONTACT_INTERSECTING, f_copl = g.flags & GLCOL_CONTACT_COPLANAR;
+        if (f_inter != inter) return bad("INTERSECTING flag differs from exact; exact", inter);
+        Pt pa(g.point_a[0], g.point_a[1], g.point_a[2]), pb(g.point_b[0], g.point_b[1], g.point_b[2]);
+        Vec n(g.normal[0], g.normal[1], g.normal[2]);
+        double nl = std::sqrt(double(g.normal[0]) * g.normal[0] + double(g.normal[1]) * g.normal[1] +
+                              double(g.normal[2]) * g.normal[2]);
+        double e_nl = std::fabs(nl - 1) / ulp32(1);
+        S.nlen = std::max(S.nlen, e_nl);
+        if (e_nl > limit) bad("| |normal| - 1 | / ulp(1)", e_nl);
+        if (inter) {
+            S.inter++;
+            std::vector<Pt> allv = A.v;
+            allv.insert(allv.end(), B.v.begin(), B.v.end());
+            bool copl = all_coplanar(allv);
+            if (f_copl != copl) return bad("COPLANAR flag differs from exact; exact", copl);
+            // Points on the exact intersection, and their spread against its diameter.
+            std::vector<std::vector<Pt>> I;
+            for (auto &s : A.s)
+                for (auto &t : B.s)
+                    if (meet(s, t)) pieces(s, t, I);
+            auto dist_I = [&](const Pt &x) {
+                FT best = -1;
+                for (auto &p : I) {
+                    FT d = sq_point_piece(x, p);
+                    if (best < 0 || d < best) best = d;
+                }
+                return dsqrt(best);
+            };
+            double e_pt = std::max(dist_I(pa), dist_I(pb)) / uM;
+            FT diam2 = 0;
+            std::vector<Pt> iv;
+            for (auto &p : I) iv.insert(iv.end(), p.begin(), p.end());
+            for (size_t i = 0; i < iv.size(); i++)
+                for (size_t j = i + 1; j < iv.size(); j++) {
+                    FT d = CGAL::squared_distance(iv[i], iv[j]);
+                    if (d > diam2) diam2 = d;
+                }
+            double spread = std::sqrt(CGAL::to_double(CGAL::squared_distance(pa, pb)));
+            double e_ext = std::fabs(spread - dsqrt(diam2)) / uM;
+            S.pt = std::max(S.pt, e_pt);
+            S.ext = std::max(S.ext, e_ext);
+            if (e_pt > limit) bad("point distance to the exact intersection / ulp(M)", e_pt);
+            if (e_ext > limit) bad("| |pa-pb| - exact diameter | / ulp(M)", e_ext);
+            if (copl) {
+                S.copl++;
+                if (g.depth != 0) bad("coplanar depth (must be 0)", g.depth);
+                Vec N = CGAL::NULL_VECTOR;
+                for (auto &s : A.s)
+                    if (s.dim == 2) N = N + CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]);
+                if (N != CGAL::NULL_VECTOR) {
+                    double Nd[3] = {CGAL::to_double(N.x()), CGAL::to_double(N.y()), CGAL::to_double(N.z())};
+                                        double c[3] = {g.normal[1] * Nd[2] - g.normal[2] * Nd[1], g.normal[2] * Nd[0] - g.normal[0] * Nd[2],
+                                   g.normal[0] * Nd[1] - g.normal[1] * Nd[0]};
+                    double dot = g.normal[0] * Nd[0] + g.normal[1] * Nd[1] + g.normal[2] * Nd[2];
+                    double ang = std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), dot);
+                    double e_c = ang / 0x1p-24;
+                    S.cnorm = std::max(S.cnorm, e_c);
+                    if (e_c > limit) bad("coplanar normal's angle to a's normal / 2^-24 rad", e_c);
+                }
+                return;
+            }
+            if (!(g.depth >= 0)) return bad("intersecting depth < 0", g.depth);
+            double D = dsqrt(sat_depth2(A, B));
+            double e_d = std::fabs(g.depth - D) / ulp32(std::max(D, E * 0x1p-24));
+            S.depth = std::max(S.depth, e_d);
+            if (e_d > limit) bad("|depth - exact SAT depth| / ulp(max(D, 2^-24 E))", e_d);
+            // Separation, exactly on the translated polygons.
+            double s = 8 * uE;
+            Vec up = n * (FT(double(g.depth)) + FT(s));
+            if (meet(translated(A, up), B)) bad("a moved by (depth + 8 ulp(E)) * normal still meets b; depth", g.depth);
+            if (na == 3 && nb == 3 && double(g.depth) > s) {
+                Vec dn = n * (FT(double(g.depth)) - FT(s));
+                if (!meet(translated(A, dn), B))
+                    bad("a moved by (depth - 8 ulp(E)) * normal is already apart; depth", g.depth);
+            }
+            return;
+        }
+        S.band++;
+        if (f_copl) return bad("COPLANAR on a pair that does not intersect", 1);
+        if (!(g.depth <= 0)) return bad("band depth > 0", g.depth);
+        FT d2 = -1;
+        for (auto &s : A.s)
+            for (auto &t : B.s) {
+                FT d = sq_simplices(s, t);
+                if (d2 < 0 || d < d2) d2 = d;
+            }
+        double d = dsqrt(d2);
+        double e_bd = std::fabs(-double(g.depth) - d) / ulp32(std::max(d, E * 0x1p-24));
+        S.bdist = std::max(S.bdist, e_bd);
+        if (e_bd > limit) bad("|-depth - exact distance| / ulp(max(d, 2^-24 E))", e_bd);
+        double e_p = std::max({dsqrt(sq_point_poly(pa, A)), dsqrt(sq_point_poly(pb, B)),
+                               std::fabs(dsqrt(sq_point_poly(pa, B)) - d), std::fabs(dsqrt(sq_point_poly(pb, A)) - d)}) /
+                     uM;
+        S.bpts = std::max(S.bpts, e_p);
+        if (e_p > limit) bad("band closest points (on their polygon, at the distance) / ulp(M)", e_p);
+        // The polygons' exact separation along the normal: min_a a.n - max_b b.n.
+        FT amin = 0, bmax = 0;
+        for (size_t i = 0; i < A.v.size(); i++) {
+            FT x = (A.v[i] - CGAL::ORIGIN) * n;
+            if (i == 0 || x < amin) amin = x;
+        }
+        for (size_t i = 0; i < B.v.size(); i++) {
+            FT x = (B.v[i] - CGAL::ORIGIN) * n;
+            if (i == 0 || x > bmax) bmax = x;
+        }
+        double gap = CGAL::to_double(amin - bmax) / nl;
+        double e_bn = (d - gap) / uE;
+        S.bnorm = std::max(S.bnorm, e_bn);
+        if (e_bn > limit) bad("(distance - separation along the normal) / ulp(E)", e_bn);
+    }
+};
+
+// ---- generated pairs ---------------------------------------------------------------------
+using T3 = std::array<std::array<double, 3>, 3>;
+struct Gen {
+    std::mt19937_64 rng{12345};
+    double u(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
+    std::array<double, 3> p(double r) { return {u(-r, r), u(-r, r), u(-r, r)}; }
+    T3 tri(double r) { return {p(r), p(r), p(r)}; }
+};
+std::array<double, 3> cross(const std::array<double, 3> &a, const std::array<double, 3> &b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+std::array<double, 3> sub(const std::array<double, 3> &a, const std::array<double, 3> &b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+std::array<double, 3> unit(std::array<double, 3> a) {
+    double l = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    return {a[0] / l, a[1] / l, a[2] / l};
+}
+
+// The base configurations (unit size, at the origin); the families scale and offset them.
+enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NKIND };
+std::pair<T3, T3> make(Gen &G, Kind k, int i) {
+    switch (k) {
+    case RANDOM: {
+        T3 a = G.tri(1), b = G.tri(1);
+        return {a, b};
+    }
+    case COPLANAR: {
+        // In z = c, in x = c, or in the plane y = x (exact in floats).
+        T3 a = G.tri(1), b = G.tri(1);
+        int m = i % 3;
+        double c = float(G.u(-1, 1));
+        for (T3 *t : {&a, &b})
+            for (auto &v : *t) {
+                if (m == 0) v[2] = c;
+                else if (m == 1) v[0] = c;
+                else v[1] = float(v[0]);
+            }
+        return {a, b};
+    }
+    case TOUCHING: {
+        // a in z = 0; b touches it with a vertex inside a, on a's edge, on a's vertex, or
+        // shares a's edge folded up.
+        T3 a = {{{0, 0, 0}, {1, 0, 0}, {0.25, 1, 0}}};
+        double s = G.u(0.1, 0.9), t = G.u(0.05, 0.4);
+        std::array<double, 3> q;
+        switch (i % 4) {
+        case 0: q = {float(s * 0.6 + 0.1), float(t), 0}; break; // inside (usually)
+        case 1: q = {float(s), 0, 0}; break;                    // on the edge y = 0
+        case 2: q = {1, 0, 0}; break;                           // on a vertex
+        default: {
+            std::array<double, 3> top = {G.u(0, 1), G.u(-1, 0), G.u(0.1, 1)};
+            return {a, {{{0, 0, 0}, {1, 0, 0}, top}}}; // shared edge, folded
+        }
+        }
+        T3 b = {{q, {q[0] + G.u(-0.5, 0.5), q[1] + G.u(-0.5, 0.5), G.u(0.1, 1)},
+                 {q[0] + G.u(-0.5, 0.5), q[1] + G.u(-0.5, 0.5), G.u(0.1, 1)}}};
+        return {a, b};
+    }
+    case SLIVER: {
+        // a: one side 1e-6 .. 1e-3 thin; b random through it.
+        auto p0 = G.p(1), p1 = G.p(1);
+        double w = std::pow(10.0, G.u(-6, -3)), s = G.u(0, 1);
+        auto off = unit(cross(sub(p1, p0), G.p(1)));
+        T3 a = {{p0, p1, {p0[0] + s * (p1[0] - p0[0]) + w * off[0], p0[1] + s * (p1[1] - p0[1]) + w * off[1],
+                          p0[2] + s * (p1[2] - p0[2]) + w * off[2]}}};
+        auto m = a[2];
+        T3 b = {{{m[0] + G.u(-1, 1), m[1] + G.u(-1, 1), m[2] + G.u(-1, 1)}, {m[0] - G.u(-1, 1), m[1] - G.u(-1, 1), m[2] - G.u(-1, 1)}, G.p(1)}};
+        if (i % 2) std::swap(a, b);
+        return {a, b};
+    }
+    case NEAR: {
+        // b's vertex h = 1e-3 .. 1e-7 above (apart) or below (crossing) a's plane, inside a,
+        // or b's edge passing h from a's edge.
+        T3 a = G.tri(1);
+        auto n = unit(cross(sub(a[1], a[0]), sub(a[2], a[0])));
+        double h = std::pow(10.0, G.u(-7, -3)) * (i % 2 ? 1 : -1);
+        if (i % 4 < 2) {
+            double w0 = G.u(0.1, 0.8), w1 = G.u(0.05, 1 - w0 - 0.05), w2 = 1 - w0 - w1;
+            std::array<double, 3> q;
+            for (int k = 0; k < 3; k++) q[k] = w0 * a[0][k] + w1 * a[1][k] + w2 * a[2][k] + h * n[k];
+            auto up = [&](double s) {
+                auto r = G.p(0.7);
+                return std::array<double, 3>{q[0] + r[0] + s * n[0], q[1] + r[1] + s * n[1], q[2] + r[2] + s * n[2]};
+            };
+            return {a, {{q, up(h > 0 ? 0.8 : 0.8), up(0.5)}}};
+        }
+        // Edge-edge: b's edge crosses the midpoint of a's edge 0-1 at height h, skew.
+        std::array<double, 3> m, e = unit(sub(a[1], a[0])), o = unit(cross(e, n));
+        for (int k = 0; k < 3; k++) m[k] = 0.5 * (a[0][k] + a[1][k]) + h * n[k];
+        auto d = unit({o[0] + 0.3 * e[0], o[1] + 0.3 * e[1], o[2] + 0.3 * e[2]});
+        std::array<double, 3> b0, b1, b2;
+        for (int k = 0; k < 3; k++) {
+            b0[k] = m[k] - 0.5 * d[k];
+            b1[k] = m[k] + 0.5 * d[k];
+            b2[k] = m[k] + 0.6 * n[k] - 0.2 * o[k];
+        }
+        return {a, {{b0, b1, b2}}};
+    }
+    default: {
+        // Degenerate: segments (a repeated vertex or a collinear third), points.
+        T3 a = G.tri(1), b = G.tri(1);
+        switch (i % 5) {
+        case 0: b[2] = b[0]; break;                                              // segment vs triangle
+        case 1: for (int k = 0; k < 3; k++) b[2][k] = float(0.5 * (float(b[0][k]) + float(b[1][k]))); break; // collinear
+        case 2: {                                                               // point on a (in a's plane)
+            a[0][2] = a[1][2] = a[2][2] = 0.25;
+            std::array<double, 3> q = {float(0.3 * a[0][0] + 0.3 * a[1][0] + 0.4 * a[2][0]),
+                                       float(0.3 * a[0][1] + 0.3 * a[1][1] + 0.4 * a[2][1]), 0.25};
+            b = {{q, q, q}};
+            break;
+        }
+        case 3: {                                                               // crossing segments in z = 0
+            a = {{{G.u(-1, 0), G.u(-1, 1), 0}, {G.u(0, 1), G.u(-1, 1), 0}, {0, 0, 0}}};
+            a[2] = a[0];
+            b = {{{G.u(-1, 1), G.u(-1, 0), 0}, {G.u(-1, 1), G.u(0, 1), 0}, {0, 0, 0}}};
+            b[2] = b[1];
+            break;
+        }
+        default: a[1] = a[0]; b[2] = b[1]; break;                               // segment vs segment (skew)
+        }
+        return {a, b};
+    }
+    }
+}
+const char *kind_name[NKIND] = {"random", "coplanar", "touching", "slivers", "near 1e-3..1e-7", "degenerate"};
+
+// One family: every base kind at a scale and offset, through one scene of two one-triangle
+// meshes (updated per pair), glcol_query then glcol_query_geometry.
+void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n, uint64_t seed) {
+    Gen G;
+    G.rng.seed(seed);
+    GlcolSceneDesc sd;
+    glcol_scene_desc_init(&sd);
+    sd.backend = GLCOL_BACKEND_CPU;
+    sd.epsilon = float(0.05 * scale); // band pairs too
+    sd.threads = 1;
+    GlcolScene *scene = nullptr;
+    check(glcol_scene_create(&sd, &scene), "glcol_scene_create");
+    float pa[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, pb[9] = {0, 0, 1, 1, 0, 1, 0, 1, 1};
+    uint32_t idx[3] = {0, 1, 2};
+    GlcolMeshId ids[2];
+    for (int m = 0; m < 2; m++) {
+        GlcolMeshDesc d;
+        glcol_mesh_desc_init(&d);
+        d.positions = m ? pb : pa;
+        d.vertex_count = 3;
+        d.indices = idx;
+        d.polygon_count = 1;
+        d.vertices_per_polygon = 3;
+        check(glcol_mesh_create(scene, &d, &ids[m]), "glcol_mesh_create");
+    }
+    std::array<double, 3> off = unit(G.p(1));
+    for (auto &x : off) x *= offset;
+    for (int i = 0; i < n; i++) {
+        auto [a, b] = make(G, kind, i);
+        for (int v = 0; v < 3; v++)
+            for (int k = 0; k < 3; k++) {
+                pa[3 * v + k] = float(a[v][k] * scale + off[k]);
+                pb[3 * v + k] = float(b[v][k] * scale + off[k]);
+            }
+        check(glcol_mesh_update_positions(scene, ids[0], pa, 0, 3, 0), "update a");
+        check(glcol_mesh_update_positions(scene, ids[1], pb, 0, 3, 0), "update b");
+        const GlcolContact *c = nullptr;
+        size_t nc = 0;
+        check(glcol_query(scene, ids[0], &c, &nc), "glcol_query");
+        const GlcolContactGeometry *g = nullptr;
+        size_t ng = 0;
+        check(glcol_query_geometry(scene, &g, &ng), "glcol_query_geometry");
+        char where[64];
+        snprintf(where, sizeof where, "%s pair %d", S.name.c_str(), i);
+        if (ng != nc) {
+            S.fail(std::string(where) + ": geometry count differs from the contact count");
+            continue;
+        }
+        const float *ca[3] = {pa, pa + 3, pa + 6}, *cb[3] = {pb, pb + 3, pb + 6};
+        if (nc == 0) {
+            // Not reported: must not intersect (the query's exactness, checked in passing).
+            Poly A = make_poly(ca, 3), B = make_poly(cb, 3);
+            if (meet(A, B)) S.fail(std::string(where) + ": an intersecting pair was not reported");
+            continue;
+        }
+        C.pair(S, ca, 3, cb, 3, g[0], where);
+    }
+    glcol_scene_destroy(scene);
+}
+
+// A scene of real (or the cross-check's generated) meshes: glcol_query_all at the scene's
+// epsilon on some frames, every pair checked.
+void mesh_scene(Checker &C, Stats &S, const Scene &sc, int frames) {
+    GlcolSceneDesc sd;
+    glcol_scene_desc_init(&sd);
+    sd.backend = GLCOL_BACKEND_CPU;
+    sd.epsilon = sc.eps;
+    GlcolScene *scene = nullptr;
+    check(glcol_scene_create(&sd, &scene), "glcol_scene_create");
+    Frame f;
+    sc.frame(0, f);
+    GlcolMeshId ids[2];
+    const Mesh *ms[2] = {&sc.A.mesh, &sc.B.mesh};
+    for (int m = 0; m < 2; m++) {
+        GlcolMeshDesc d;
+        glcol_mesh_desc_init(&d);
+        d.positions = m ? f.b.data() : f.a.data();
+        d.vertex_count = ms[m]->nv();
+        d.indices = ms[m]->poly.data();
+        d.polygon_count = ms[m]->npoly();
+        d.vertices_per_polygon = ms[m]->vpp;
+        check(glcol_mesh_create(scene, &d, &ids[m]), "glcol_mesh_create");
+    }
+    for (int fi = 0; fi < frames; fi++) {
+        int fr = frames == 1 ? 0 : fi * (sc.frames - 1) / (frames - 1);
+        sc.frame(fr, f);
+        check(glcol_mesh_update_positions(scene, ids[0], f.a.data(), 0, ms[0]->nv(), 0), "update a");
+        check(glcol_mesh_update_positions(scene, ids[1], f.b.data(), 0, ms[1]->nv(), 0), "update b");
+        const GlcolPair *p = nullptr;
+        size_t np = 0;
+        check(glcol_query_all(scene, &p, &np), "glcol_query_all");
+        const GlcolContactGeometry *g = nullptr;
+        size_t ng = 0;
+        check(glcol_query_geometry(scene, &g, &ng), "glcol_query_geometry");
+        if (ng != np) {
+            S.fail(S.name + ": geometry count differs from the pair count");
+            continue;
+        }
+        for (size_t i = 0; i < np; i++) {
+            if (p[i].mesh_a != ids[0] || p[i].mesh_b != ids[1]) continue;
+            const float *ca[4], *cb[4];
+            uint32_t va = ms[0]->vpp, vb = ms[1]->vpp;
+            for (uint32_t j = 0; j < va; j++) ca[j] = &f.a[3 * size_t(ms[0]->poly[size_t(p[i].polygon_a) * va + j])];
+            for (uint32_t j = 0; j < vb; j++) cb[j] = &f.b[3 * size_t(ms[1]->poly[size_t(p[i].polygon_b) * vb + j])];
+            char where[160];
+            snprintf(where, sizeof where, "%s frame %d pair (%u, %u)", S.name.c_str(), fr, p[i].polygon_a,
+                     p[i].polygon_b);
+            C.pair(S, ca, int(va), cb, int(vb), g[i], where);
+        }
+    }
+    glcol_scene_destroy(scene);
+}
+
+} // namespace
+
+int main(int argc, char **argv) {
+    std::string dir = "../shared/meshes", only;
+    int npairs = 3000, frames = 10;
+    Checker C;
+    for (int i = 1; i < argc; i++) {
+        std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "%s needs a value\n", a.c_str());
+                exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--meshes") dir = next();
+        else if (a == "--pairs") npairs = atoi(next().c_str());
+        else if (a == "--frames") frames = atoi(next().c_str());
+        else if (a == "--limit") C.limit = atof(next().c_str());
+        else if (a == "--only") only = next();
+        else if (a == "--inject") C.inject = true;
+        else {
+            fprintf(stderr,
+                    "usage: contact_check [--meshes DIR] [--pairs N] [--frames N] [--limit ULPS] [--only TEXT] "
+                    "[--inject]\n");
+            return 2;
+        }
+    }
+    std::vector<Stats> all;
+    try {
+        struct Fam {
+            const char *tag;
+            double scale, offset;
+            std::vector<Kind> kinds;
+        };
+        std::vector<Kind> every = {RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE};
+        std::vector<Fam> fams = {
+            {"", 1, 0, every},
+            {", offset 1e3", 1, 1e3, every},
+            {", offset 1e5", 1, 1e5, {RANDOM, SLIVER, NEAR, DEGENERATE}},
+            {", scale 1e-4", 1e-4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE}},
+            {", scale 1e4", 1e4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE}},
+        };
+        uint64_t seed = 1;
+        for (auto &F : fams)
+            for (Kind k : F.kinds) {
+                Stats S;
+                S.name = std::string(kind_name[k]) + F.tag;
+                seed++;
+                if (!only.empty() && S.name.find(only) == std::string::npos) continue;
+                C.injected = false;
+                family(C, S, k, F.scale, F.offset, npairs, seed);
+                all.push_back(S);
+            }
+        // Real meshes: the heavy organ pair and two instrument cases (the cross-check's
+        // placement and warps), then the cross-check's generated scenes that stress geometry.
+        std::vector<std::function<Scene()>> scenes;
+        const double d1[3] = {-0.2, 1, 0.4}, d0[3] = {1, 0.3, 0.2};
+        scenes.push_back([&] { return organ_vs_organ(load_obj(dir, "colon"), load_obj(dir, "small_intestine"), 100); });
+        scenes.push_back([&] { return instrument_vs_organ(load_obj(dir, "forceps_jaw"), load_obj(dir, "colon"), d1, 100); });
+        scenes.push_back(
+            [&] { return instrument_vs_organ(load_obj(dir, "scissors_blade"), load_obj(dir, "liver_glt"), d0, 100); });
+        auto cc = crosscheck_scenes(dir, 0);
+        const char *picked[] = {"coplanar overlap", "edge touch, folded", "vertex on face", "thin blade", "quads"};
+        for (size_t i = 24; i < cc.size(); i++) scenes.push_back(cc[i]); // the generated ones (cheap to build)
+        for (auto &make : scenes) {
+            Scene sc = make();
+            bool want = sc.kind != "generated";
+            for (const char *p : picked) want = want || sc.name.find(p) == 0;
+            if (!want || (!only.empty() && sc.name.find(only) == std::string::npos)) continue;
+            Stats S;
+            S.name = sc.name;
+            C.injected = false;
+            mesh_scene(C, S, sc, frames);
+            all.push_back(S);
+        }
+    } catch (const std::exception &e) {
+        fprintf(stderr, "contact_check: %s\n", e.what());
+        return 2;
+    }
+    printf("Worst errors in float ulps (limit %.0f). pt: point to the exact intersection, ext: |pa-pb| vs "
+           "its diameter (ulps of M); depth: vs exact SAT (ulps of max(D, 2^-24 E)); |n|: ulps of 1; "
+           "copl n: angle to a's normal / 2^-24; band d: distance (as depth); band pts: ulps of M; band n: "
+           "distance - separation along n (ulps of E)\n\n",
+           C.limit);
+    printf("| family | pairs | intersecting | coplanar | band | pt | ext | depth | |n|-1 | copl n | band d | band pts | "
+           "band n | failures |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    long fails = 0;
+    Stats W;
+    W.name = "**worst**";
+    for (auto &S : all) {
+        printf("| %s | %ld | %ld | %ld | %ld | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %ld |\n",
+               S.name.c_str(), S.pairs, S.inter, S.copl, S.band, S.pt, S.ext, S.depth, S.nlen, S.cnorm, S.bdist, S.bpts,
+               S.bnorm, S.fails);
+        fails += S.fails;
+        W.pairs += S.pairs, W.inter += S.inter, W.copl += S.copl, W.band += S.band;
+        W.pt = std::max(W.pt, S.pt), W.ext = std::max(W.ext, S.ext), W.depth = std::max(W.depth, S.depth);
+        W.nlen = std::max(W.nlen, S.nlen), W.cnorm = std::max(W.cnorm, S.cnorm), W.bdist = std::max(W.bdist, S.bdist);
+        W.bpts = std::max(W.bpts, S.bpts), W.bnorm = std::max(W.bnorm, S.bnorm);
+    }
+    printf("| %s | %ld | %ld | %ld | %ld | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %ld |\n",
+           W.name.c_str(), W.pairs, W.inter, W.copl, W.band, W.pt, W.ext, W.depth, W.nlen, W.cnorm, W.bdist, W.bpts,
+           W.bnorm, fails);
+    for (auto &S : all)
+        for (auto &m : S.msgs) printf("FAIL %s\n", m.c_str());
+    if (fails) {
+        printf("\ncontact_check: %ld failing pairs\n", fails);
+        return 1;
+    }
+    printf("\ncontact_check: all %ld pairs within %.0f ulps\n", W.pairs, C.limit);
+    return 0;
+}
