@@ -3,15 +3,32 @@
 //! of every mesh (frame N, then N+1, alternately: a real deformation step) and one query with
 //! every mesh self-colliding, median over repeated frames, for 1 and 2 threads, exact and
 //! within 1e-3 of the scene's extent. Prints a Markdown table.
+//! A second table gives the stages of the median query ([`AllStats`]: broad phase, leaf
+//! pairs, polygon box pairs, adjacency decisions, narrow tests, mesh pairs' five steps).
 //!   cargo bench --bench scene [-- FRAMES]
 //! With `scaling [CSV]`, instead: time per frame against the number of bodies (10 to 5,000
 //! spheres, exact, threads 1 and 2), printed and written as CSV for bench/scaling_plot.py:
 //!   cargo bench --bench scene -- scaling bench-results/scaling.csv
+//! Environment: `SCENE=substring` keeps the scenes whose name contains it, `EPS=0` or
+//! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count.
 
 use std::time::Instant;
 
 use glcollide::obj::load;
-use glcollide::{MeshId, Positions, Scene, SceneConfig};
+use glcollide::{AllStats, MeshId, Positions, Scene, SceneConfig};
+
+/// CPU time of the whole process so far, ns (every thread's time on a core, from
+/// /proc/self/task/*/schedstat; 0 where there is none): unlike wall-clock time it does not
+/// grow when other processes share the cores.
+fn cpu_nanos() -> u64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0;
+    };
+    tasks
+        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .sum()
+}
 
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -121,8 +138,9 @@ fn spheres_case(n: usize) -> Case {
     }
 }
 
-/// Median ms per frame (update every mesh + query_all), pairs in the last frame.
-fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, usize) {
+/// Median ms per frame (update every mesh + query_all), pairs in the last frame, the
+/// stages of the median query.
+fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64, usize, AllStats) {
     let mut s = Scene::new(SceneConfig {
         epsilon,
         threads,
@@ -139,6 +157,8 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, usi
         s.set_self_collision(id, true).unwrap();
     }
     let (mut total, mut query, mut pairs) = (Vec::new(), Vec::new(), 0);
+    let mut stats = Vec::new();
+    let mut cpu = Vec::new();
     for f in 0..frames {
         let t = Instant::now();
         for (&id, p) in ids.iter().zip(&case.frames[f % 2]) {
@@ -146,15 +166,30 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, usi
                 .unwrap();
         }
         let q = Instant::now();
+        let c = cpu_nanos();
         pairs = s.query_all().unwrap().len();
+        cpu.push((cpu_nanos() - c) as f64 * 1e-6);
         total.push(t.elapsed().as_secs_f64() * 1e3);
         query.push(q.elapsed().as_secs_f64() * 1e3);
+        stats.push(s.all_stats());
     }
-    (median(&mut total), median(&mut query), pairs)
+    stats.sort_by_key(|s| s.total_nanos);
+    let mid = stats[stats.len() / 2];
+    (
+        median(&mut total),
+        median(&mut query),
+        median(&mut cpu),
+        pairs,
+        mid,
+    )
+}
+
+fn ms(n: u64) -> String {
+    format!("{:.2}", n as f64 * 1e-6)
 }
 
 /// Time per frame against the body count: the broad phase must keep it proportional to the
-/// touching pairs (here about 3 per body), not to the square of the body count.
+/// touching pairs (each sphere touches its 6 neighbours), not to the square of the body count.
 fn scaling(frames: usize, csv: Option<&str>) {
     let mut rows = vec!["bodies,triangles,threads,ms_per_frame,query_ms,pairs".to_string()];
     println!("{frames} frames per row, median; every sphere self-colliding; exact; CPU backend\n");
@@ -164,7 +199,7 @@ fn scaling(frames: usize, csv: Option<&str>) {
         let case = spheres_case(n);
         let tris: usize = case.idx.iter().map(|i| i.len() / 3).sum();
         for threads in [1, 2] {
-            let (t, q, pairs) = run(&case, 0.0, threads, frames);
+            let (t, q, _, pairs, _) = run(&case, 0.0, threads, frames);
             println!(
                 "| {n} | {tris} | {threads} | {t:.2} | {q:.2} | {pairs} | {:.1} |",
                 q * 1e3 / n as f64
@@ -185,29 +220,88 @@ fn main() {
         let csv = args.get(i + 1).filter(|a| a.ends_with(".csv"));
         return scaling(frames, csv.map(String::as_str));
     }
-    let cases = [
-        sim_case("cloth-funnel", 227),
-        sim_case("armadillo-rollers", 326),
-        sim_case("rod-twist", 3036),
-        spheres_case(1000),
+    let var = |k: &str| std::env::var(k).ok().filter(|v| !v.is_empty());
+    let keep = var("SCENE");
+    let keep = |name: &str| keep.as_ref().is_none_or(|k| name.contains(k.as_str()));
+    let rels: Vec<f32> = match var("EPS") {
+        Some(e) => vec![e.parse().expect("EPS: a number")],
+        None => vec![0.0, 1e-3],
+    };
+    let threads: Vec<u32> = match var("THREADS") {
+        Some(t) => vec![t.parse().expect("THREADS: a number")],
+        None => vec![1, 2],
+    };
+    let sims = [
+        ("cloth-funnel", 227),
+        ("armadillo-rollers", 326),
+        ("rod-twist", 3036),
     ];
+    let mut cases: Vec<Case> = sims
+        .iter()
+        .filter(|(n, _)| keep(n))
+        .map(|&(n, f)| sim_case(n, f))
+        .collect();
+    if keep("spheres") {
+        cases.push(spheres_case(1000));
+    }
     println!("{frames} frames per row, median; every mesh self-colliding; CPU backend\n");
-    println!("| scene | epsilon | threads | ms per frame (update + query) | query ms | pairs |");
-    println!("|---|---|---:|---:|---:|---:|");
+    println!(
+        "| scene | epsilon | threads | ms per frame (update + query) | query ms | query CPU ms \
+         (all threads) | pairs |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---:|");
+    let mut rows = Vec::new();
     for case in &cases {
-        for rel in [0.0, 1e-3] {
-            for threads in [1, 2] {
-                let (t, q, n) = run(case, rel * case.extent, threads, frames);
+        for &rel in &rels {
+            for &threads in &threads {
+                let (t, q, c, n, st) = run(case, rel * case.extent, threads, frames);
                 let eps = if rel == 0.0 {
                     "0".to_string()
                 } else {
-                    "1e-3 extent".to_string()
+                    format!("{rel:e} extent")
                 };
                 println!(
-                    "| {} | {eps} | {threads} | {t:.2} | {q:.2} | {n} |",
+                    "| {} | {eps} | {threads} | {t:.2} | {q:.2} | {c:.2} | {n} |",
                     case.name
                 );
+                rows.push((case.name.clone(), eps, threads, st));
             }
         }
+    }
+    println!(
+        "\nStages of the median query, ms (worker stages: CPU time summed over the workers); \
+         counts: mesh pairs, self leaf pairs, self box pairs (adjacent / quick / apart), found\n"
+    );
+    println!(
+        "| scene | epsilon | threads | total | broad | self leaf pairs | workers (wall) | \
+         self boxes | self adjacent | self apart | mesh pairs steps 1-2 / 3-4 / 5 | merge | \
+         counts |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---|");
+    for (name, eps, threads, st) in rows {
+        let p = st.pair_step_nanos;
+        println!(
+            "| {name} | {eps} | {threads} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | \
+             {} mp, {} lp, {} bp ({} / {} / {}), {} + {} found |",
+            ms(st.total_nanos),
+            ms(st.broad_nanos),
+            ms(st.self_leaf_nanos),
+            ms(st.tasks_nanos),
+            ms(st.self_box_nanos),
+            ms(st.self_adjacent_nanos),
+            ms(st.self_narrow_nanos),
+            ms(p[0] + p[1]),
+            ms(p[2] + p[3]),
+            ms(p[4]),
+            ms(st.merge_nanos),
+            st.mesh_pairs,
+            st.self_leaf_pairs,
+            st.self_box_pairs,
+            st.self_adjacent_tests,
+            st.self_adjacent_quick,
+            st.self_narrow_tests,
+            st.self_found,
+            st.pair_found,
+        );
     }
 }

@@ -37,6 +37,7 @@ pub mod ffi;
 pub use backend::{Backend, Contact, Pair, QueryStats};
 pub use error::{Error, ErrorKind, Result};
 pub use mesh::{Mesh, Positions};
+pub use query::all::AllStats;
 pub use scene::{MeshId, Scene, SceneConfig};
 
 /// Internals for the crate's own tests, benchmarks and fuzz targets: not a stable API.

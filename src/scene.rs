@@ -4,13 +4,14 @@ use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use std::sync::Mutex;
+use std::time::Instant;
 
 use crate::backend::{Backend, CpuSelector, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
 use crate::geom::contact::{contact_geometry, ContactGeometry};
 use crate::geom::P3;
 use crate::mesh::{Mesh, Positions};
-use crate::query::all::{self as whole, BroadPhase, SceneMesh, SelfScratch};
+use crate::query::all::{self as whole, AllStats, BroadPhase, SceneMesh, SelfPrep, SelfScratch};
 use crate::query::{self, Contact, QueryStats, Workspace};
 
 /// Id of a mesh. Ids start at 1, are never 0 and never reused (unique in the process).
@@ -72,6 +73,10 @@ pub struct Scene {
     threads: usize,
     workers: Vec<Mutex<Worker>>,
     broad: BroadPhase,
+    /// The self-colliding meshes made ready for the query, kept from query to query.
+    self_preps: Vec<SelfPrep>,
+    /// Stages of the last whole-scene query.
+    all_stats: AllStats,
     /// Which answer [`Scene::contact_geometry`] describes (`None` before any query, after a
     /// failed one, or after any change to the meshes), and its geometry once computed.
     last: LastQuery,
@@ -93,13 +98,20 @@ struct Worker {
     cpu: CpuSelector,
     workspace: Workspace,
     selfs: SelfScratch,
+    /// Its share of the query's counts and times.
+    stats: AllStats,
 }
 
 /// A unit of whole-scene work: a mesh pair (positions in the query's mesh list), or a run
 /// of one mesh's self-colliding leaf pairs.
 enum Task {
     Pair(u32, u32),
-    Own(u32, Vec<(u32, u32)>),
+    /// Mesh `list[i]`, its `n`-th self-colliding preparation, leaf pairs `range` of it.
+    Own {
+        i: u32,
+        n: u32,
+        range: std::ops::Range<usize>,
+    },
 }
 
 /// Self-collision leaf pairs per task: small enough to spread a big mesh over the workers,
@@ -132,6 +144,8 @@ impl Scene {
             pool: None,
             workers: (0..threads.max(1)).map(|_| Mutex::default()).collect(),
             broad: BroadPhase::default(),
+            self_preps: Vec::new(),
+            all_stats: AllStats::default(),
             last: LastQuery::None,
             geometry: Vec::new(),
         })
@@ -370,6 +384,8 @@ impl Scene {
     }
 
     fn query_all_inner(&mut self) -> Result<()> {
+        let start = Instant::now();
+        self.all_stats = AllStats::default();
         self.start_workers()?;
         let h = f64::from(self.config.epsilon) / 2.0;
         let list: Vec<SceneMesh<'_>> = self
@@ -385,23 +401,49 @@ impl Scene {
             })
             .collect();
         let mut mesh_pairs = Vec::new();
+        let t = Instant::now();
         whole::mesh_pairs(&list, h, &mut self.broad, &mut mesh_pairs);
+        let mut st = AllStats {
+            broad_nanos: nanos_since(t),
+            mesh_pairs: mesh_pairs.len(),
+            ..AllStats::default()
+        };
+        let t = Instant::now();
         let on_cpu = self.selector.backend() == Backend::Cpu;
         let mut tasks: Vec<Task> = Vec::new();
         if on_cpu {
             tasks.extend(mesh_pairs.iter().map(|&(i, j)| Task::Pair(i, j)));
         }
-        for (i, sm) in list.iter().enumerate() {
-            if sm.self_collision {
-                let mut w = lock(&self.workers[0]);
-                let leaf_pairs = whole::self_leaf_pairs(sm.mesh, h, &mut w.selfs);
-                tasks.extend(
-                    leaf_pairs
-                        .chunks(LEAF_PAIRS_PER_TASK)
-                        .map(|c| Task::Own(i as u32, c.to_vec())),
-                );
-            }
+        let selfs: Vec<u32> = (0..list.len() as u32)
+            .filter(|&i| list[i as usize].self_collision)
+            .collect();
+        if self.self_preps.len() < selfs.len() {
+            self.self_preps.resize_with(selfs.len(), SelfPrep::default);
         }
+        let preps = &mut self.self_preps[..selfs.len()];
+        let make = |(prep, &i): (&mut SelfPrep, &u32)| prep.make(list[i as usize].mesh, h);
+        match &self.pool {
+            Some(pool) if selfs.len() > 1 => pool.install(|| {
+                use rayon::prelude::*;
+                preps.par_iter_mut().zip(&selfs).for_each(make)
+            }),
+            _ => preps.iter_mut().zip(&selfs).for_each(make),
+        }
+        let preps = &self.self_preps[..selfs.len()];
+        for (n, (prep, &i)) in preps.iter().zip(&selfs).enumerate() {
+            let pairs = prep.leaf_pairs.len();
+            st.self_leaf_pairs += pairs;
+            tasks.extend((0..pairs).step_by(LEAF_PAIRS_PER_TASK).map(|s| Task::Own {
+                i,
+                n: n as u32,
+                range: s..(s + LEAF_PAIRS_PER_TASK).min(pairs),
+            }));
+        }
+        st.self_leaf_nanos = nanos_since(t);
+        for w in &self.workers {
+            lock(w).stats = AllStats::default();
+        }
+        let t = Instant::now();
         let workers = &self.workers;
         let run = |t: &Task| -> Vec<Pair> {
             let at = rayon::current_thread_index().unwrap_or(0) % workers.len();
@@ -421,10 +463,24 @@ impl Scene {
                     if query::run(&mut w.cpu, &q, &mut w.workspace, &mut found).is_ok() {
                         out.extend(found.iter().map(|c| pair(a.id, c)));
                     }
+                    for k in 0..5 {
+                        w.stats.pair_step_nanos[k] += w.workspace.stats.nanos[k];
+                    }
+                    w.stats.pair_found += found.len();
                 }
-                Task::Own(i, ref leaf_pairs) => {
+                Task::Own { i, n, ref range } => {
                     let sm = &list[i as usize];
-                    whole::self_pairs(sm.id, sm.mesh, h, leaf_pairs, &mut w.selfs, &mut out);
+                    let prep = &preps[n as usize];
+                    whole::self_pairs(
+                        sm.id,
+                        sm.mesh,
+                        prep,
+                        h,
+                        &prep.leaf_pairs[range.clone()],
+                        &mut w.selfs,
+                        &mut out,
+                        &mut w.stats,
+                    );
                 }
             }
             out
@@ -436,6 +492,10 @@ impl Scene {
             }),
             None => tasks.iter().map(run).collect(),
         };
+        st.tasks_nanos = nanos_since(t);
+        for w in &self.workers {
+            st.add_worker(&lock(w).stats);
+        }
         let out = &mut self.pairs_scratch;
         out.clear();
         out.extend(found.into_iter().flatten());
@@ -468,8 +528,12 @@ impl Scene {
                 }
             }
         }
+        let t = Instant::now();
         out.sort_unstable();
         out.dedup();
+        st.merge_nanos = nanos_since(t);
+        st.total_nanos = nanos_since(start);
+        self.all_stats = st;
         Ok(())
     }
 
@@ -572,10 +636,20 @@ impl Scene {
         Ok(&self.geometry)
     }
 
+    /// Where the time of the last whole-scene query went ([`Scene::query_all`]; reset by
+    /// each one, zero after a failed one).
+    pub fn all_stats(&self) -> AllStats {
+        self.all_stats
+    }
+
     /// What each step asked and found in the last query.
     pub fn stats(&self) -> QueryStats {
         self.workspace.stats
     }
+}
+
+fn nanos_since(t: Instant) -> u64 {
+    t.elapsed().as_nanos() as u64
 }
 
 /// A contact of `reference` as a whole-scene pair (`reference` has the lower id).

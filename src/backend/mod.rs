@@ -15,7 +15,7 @@
 //! `gpu`, never on `query`, `scene` or `ffi`.
 
 pub(crate) mod brute;
-mod cpu;
+pub(crate) mod cpu;
 mod gl_compute;
 mod gl_select;
 

@@ -89,7 +89,7 @@
 //! polygons, whose joint is then exactly `{p}`. Everything else goes to the general rule.
 
 use super::predicates::{collinear, drop_axis, orient2d, orient3d, P3};
-use super::tritri::{segments_intersect, triangles_intersect};
+use super::tritri::{segments_intersect, triangles_intersect, Plane};
 
 /// Do two polygons share a vertex index (are they *adjacent*)?
 #[inline]
@@ -126,6 +126,104 @@ pub fn adjacent_polygons_meet(
     let a = Polygon::new(a_idx, a_tris, na);
     let b = Polygon::new(b_idx, b_tris, nb);
     polygons_meet(&a, &b)
+}
+
+/// A cheap sufficient condition for two triangles sharing vertex indices *not* to meet
+/// beyond their joint: `true` proves [`adjacent_polygons_meet`] false for them; `false`
+/// tells nothing. One or two exact `orient3d` and no setup, for the common neighbours of a
+/// triangle mesh (it is two of the fast paths of the [module documentation](self), without
+/// building the polygons' joint):
+///
+/// * exactly two shared indices `{i, j}` (an edge of both) and the third vertex `w` of `b`
+///   off `a`'s plane: then `a` is proper, and the points of `b = conv(i, j, w)` in `a`'s
+///   plane are those with no weight on `w`, the shared edge; so `a ∩ b` lies in it;
+/// * exactly one shared index `s`, and the other two vertices of one triangle strictly on
+///   one side of the other's plane (which is then a plane: the triangle is proper): the
+///   orientation is affine and vanishes at `s` only, so the first triangle meets that
+///   plane at `s` alone, and `a ∩ b ⊆ {s}`.
+///
+/// A triangle with a repeated index, or two triangles with all three indices in common,
+/// get `false`.
+#[inline]
+pub fn triangles_touch_only_at_joint(
+    ai: &[u32; 3],
+    a: &[P3; 3],
+    bi: &[u32; 3],
+    b: &[P3; 3],
+) -> bool {
+    let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
+    touch_only_at_joint(
+        ai,
+        bi,
+        |k| sign(orient3d(&a[0], &a[1], &a[2], &b[k])),
+        |k| sign(orient3d(&b[0], &b[1], &b[2], &a[k])),
+    )
+}
+
+/// [`triangles_touch_only_at_joint`] with the triangles' planes made beforehand
+/// ([`Plane::of`]): each orientation is read from the plane when its floating-point value
+/// is certain of the sign ([`Plane::side`]), from the exact `orient3d` otherwise. The same
+/// answer, mostly without an exact predicate.
+#[inline]
+pub fn triangles_touch_only_at_joint_planes(
+    ai: &[u32; 3],
+    a: &[P3; 3],
+    pa: &Plane,
+    bi: &[u32; 3],
+    b: &[P3; 3],
+    pb: &Plane,
+) -> bool {
+    let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
+    let side = |pl: &Plane, t: &[P3; 3], x: &P3| match pl.side(x) {
+        0 => sign(orient3d(&t[0], &t[1], &t[2], x)),
+        s => s,
+    };
+    touch_only_at_joint(ai, bi, |k| side(pa, a, &b[k]), |k| side(pb, b, &a[k]))
+}
+
+/// The rule of [`triangles_touch_only_at_joint`], given the signs `ob(k)` of `orient3d` of
+/// `b`'s vertex `k` against `a`'s plane and `oa(k)` of `a`'s vertex `k` against `b`'s.
+#[inline(always)]
+fn touch_only_at_joint(
+    ai: &[u32; 3],
+    bi: &[u32; 3],
+    ob: impl Fn(usize) -> i8,
+    oa: impl Fn(usize) -> i8,
+) -> bool {
+    let distinct = |i: &[u32; 3]| i[0] != i[1] && i[1] != i[2] && i[0] != i[2];
+    if !distinct(ai) || !distinct(bi) {
+        return false;
+    }
+    let shared = ai.iter().filter(|i| bi.contains(i)).count();
+    // The two vertices of `x` whose index is not in `y`.
+    let others = |xi: &[u32; 3], yi: &[u32; 3]| -> [usize; 2] {
+        let mut o = [0; 2];
+        let mut n = 0;
+        for (k, i) in xi.iter().enumerate() {
+            if !yi.contains(i) && n < 2 {
+                o[n] = k;
+                n += 1;
+            }
+        }
+        o
+    };
+    match shared {
+        2 => {
+            let w = (0..3).find(|&k| !ai.contains(&bi[k]));
+            w.is_some_and(|w| ob(w) != 0)
+        }
+        1 => {
+            let [c, d] = others(bi, ai);
+            let s = ob(c);
+            if s != 0 && ob(d) == s {
+                return true;
+            }
+            let [c, d] = others(ai, bi);
+            let s = oa(c);
+            s != 0 && oa(d) == s
+        }
+        _ => false,
+    }
 }
 
 /// [`adjacent_polygons_meet`] with one position per vertex: `a_pos[k]` is the position of
@@ -1412,6 +1510,8 @@ mod tests {
     struct Tally {
         cases: usize,
         meets: usize,
+        /// Triangle pairs [`triangles_touch_only_at_joint`] decided (either order).
+        quick: usize,
         bad: Vec<String>,
     }
 
@@ -1425,13 +1525,34 @@ mod tests {
                 self.bad
                     .push(format!("predicate {got}, oracle {want}: {c:?}"));
             }
+            // The quick test: "no meeting" only where the oracle says so.
+            if c.a_idx.len() == 3 && c.b_idx.len() == 3 {
+                let tri = |i: &[u32], p: &[P3]| ([i[0], i[1], i[2]], [p[0], p[1], p[2]]);
+                let (ai, ap) = tri(&c.a_idx, &c.a_pos);
+                let (bi, bp) = tri(&c.b_idx, &c.b_pos);
+                let (pa, pb) = (Plane::of(&ap), Plane::of(&bp));
+                let planes = triangles_touch_only_at_joint_planes(&ai, &ap, &pa, &bi, &bp, &pb);
+                let exact = triangles_touch_only_at_joint(&ai, &ap, &bi, &bp);
+                if planes != exact && self.bad.len() < 5 {
+                    self.bad
+                        .push(format!("quick test: planes {planes}, exact {exact}: {c:?}"));
+                }
+                for quick in [exact, triangles_touch_only_at_joint(&bi, &bp, &ai, &ap)] {
+                    self.quick += usize::from(quick);
+                    if quick && want && self.bad.len() < 5 {
+                        self.bad
+                            .push(format!("quick test: no meeting, oracle: meets: {c:?}"));
+                    }
+                }
+            }
         }
 
         fn finish(self, name: &str, min_cases: usize) {
             println!(
-                "{name}: {} cases, {} meeting, {} disagreements",
+                "{name}: {} cases, {} meeting, {} quick decisions, {} disagreements",
                 self.cases,
                 self.meets,
+                self.quick,
                 self.bad.len()
             );
             assert!(

@@ -108,22 +108,24 @@ impl Plane {
     /// when only the exact predicate can tell.
     #[inline]
     pub fn sides(&self, u: &[P3; 3]) -> [i8; 3] {
-        u.map(|p| {
-            let w = [p[0] - self.o[0], p[1] - self.o[1], p[2] - self.o[2]];
-            let s = self.n[0] * w[0] + self.n[1] * w[1] + self.n[2] * w[2];
-            let bound = PLANE_SLACK
-                * (self.perm[0] * w[0].abs()
-                    + self.perm[1] * w[1].abs()
-                    + self.perm[2] * w[2].abs());
-            // orient3d(t0, t1, t2, p) = -((t1 - t0) x (t2 - t0)) . (p - t0).
-            if s > bound {
-                -1
-            } else if s < -bound {
-                1
-            } else {
-                0
-            }
-        })
+        u.map(|p| self.side(&p))
+    }
+
+    /// [`Plane::sides`] for one point.
+    #[inline]
+    pub fn side(&self, p: &P3) -> i8 {
+        let w = [p[0] - self.o[0], p[1] - self.o[1], p[2] - self.o[2]];
+        let s = self.n[0] * w[0] + self.n[1] * w[1] + self.n[2] * w[2];
+        let bound = PLANE_SLACK
+            * (self.perm[0] * w[0].abs() + self.perm[1] * w[1].abs() + self.perm[2] * w[2].abs());
+        // orient3d(t0, t1, t2, p) = -((t1 - t0) x (t2 - t0)) . (p - t0).
+        if s > bound {
+            -1
+        } else if s < -bound {
+            1
+        } else {
+            0
+        }
     }
 }
 

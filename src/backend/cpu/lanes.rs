@@ -11,7 +11,7 @@ const LANES: usize = 8;
 /// `len` boxes followed by [`LANES`] padding boxes that meet nothing (min `+inf`, max
 /// `-inf`), so that the eight boxes from any position below `len` can be read.
 #[derive(Clone, Debug, Default)]
-pub(super) struct Lanes {
+pub(crate) struct Lanes {
     lo: [Vec<f32>; 3],
     hi: [Vec<f32>; 3],
 }
