@@ -117,8 +117,9 @@ pub struct Gl {
 /// A buffer object of ours, made in the scene's context, that no other context sees unless
 /// it shares the scene's objects: checked before every GL-backed call
 /// ([`Gl::check_current`]). A name alone proves nothing (an unshared context may have a
-/// buffer of the same name), so the buffer carries a label unique in the process (where
-/// the GL has object labels) and a size and usage of its own.
+/// buffer of the same name), so the buffer carries a label unique in the process where
+/// the GL has object labels (GL 4.3 or KHR_debug), and otherwise is told by a size and
+/// usage of its own.
 #[derive(Clone, Debug)]
 struct Sentinel {
     name: glow::NativeBuffer,
@@ -553,7 +554,7 @@ impl Gl {
     }
 
     /// `Ok` when a context is current on this thread and it is the scene's or one sharing
-    /// its objects (it sees the sentinel with our label, size and usage) and of the kind
+    /// its objects (it sees the sentinel with our label, or size and usage) and of the kind
     /// the backend needs; else GL_UNAVAILABLE saying which, before anything is touched.
     /// Raises no GL error (it asks glIsBuffer before anything about the name), and leaves
     /// the host's state and pending errors as they were.
@@ -612,9 +613,8 @@ impl Gl {
                     buf.as_mut_ptr(),
                 );
                 let len = (len.max(0) as usize).min(buf.len());
-                if &buf[..len] != s.label.as_bytes() {
-                    return false;
-                }
+                // The label is unique in the process: no need to ask more.
+                return &buf[..len] == s.label.as_bytes();
             }
             let host = g.get_parameter_i32(glow::ARRAY_BUFFER_BINDING) as u32;
             g.bind_buffer(glow::ARRAY_BUFFER, Some(s.name));
