@@ -240,7 +240,7 @@ const char *glcol_last_error_message(void);
 // ABI version of the loaded library; bumps on any incompatible change.
 uint32_t glcol_abi_version(void);
 
-// Version of the loaded library ("0.1.0"), a static string.
+// Version of the loaded library (e.g. "0.1.1"), a static string.
 const char *glcol_version(void);
 
 // The exported symbol that programs built against glcollide 0.1's header call: it fills
