@@ -393,6 +393,31 @@ enum GlcolStatus glcol_mesh_set_filter(struct GlcolScene *scene,
                                        uint32_t group,
                                        uint32_t mask);
 
+// Places `mesh` rigidly (or affinely): `m` is a row-major 3x4 matrix and a vertex's world
+// position is `m * (x, y, z, 1)`, each coordinate evaluated in double precision as
+// `m[r*4+0]*x + m[r*4+1]*y + m[r*4+2]*z + m[r*4+3]` in that order, without fused
+// multiply-add. Every query (`glcol_query`, `glcol_query_all`, `glcol_query_geometry`, all
+// backends) answers for those double world positions, exact at epsilon 0: the same answer
+// as for the same world positions given as vertices. Positions given by
+// `glcol_mesh_update_positions` stay in the mesh's own frame. NULL `m` (or the identity
+// matrix): back to the identity, the default. Cost: a few operations per leaf box (about
+// one box per 450 polygons), no vertex is read or written, so moving an instrument costs
+// far less than updating its vertices. The mesh's boxes follow the matrix conservatively
+// (a rotated mesh's boxes are looser, which costs culling, never an answer). The GL
+// backends answer the pairs that involve a transformed mesh with the CPU engine.
+// Statuses: NULL_POINTER (scene), UNKNOWN_MESH; NON_FINITE when an entry is NaN or
+// infinite, or when world positions could overflow the float range (|m| times the
+// largest local coordinates plus |translation| above FLT_MAX, judged from the mesh's
+// bounding box; `glcol_mesh_update_positions` then refuses positions that would overflow
+// under the mesh's matrix); UNSUPPORTED for a mesh bound to a GL buffer
+// (`glcol_mesh_bind_gl_buffer`). On failure nothing changes.
+//
+// # Safety
+// `scene` is NULL or a live scene; `m` is NULL or points at 12 readable doubles.
+enum GlcolStatus glcol_mesh_set_transform(struct GlcolScene *scene,
+                                          GlcolMeshId mesh,
+                                          const double *m);
+
 // Every pair of polygons that meet, in one call (the meaning of `glcol_query`: exact at
 // epsilon 0, the viewing-volume band at epsilon > 0), from two different enabled meshes
 // whose filters pass, or from one enabled mesh whose self-collision is on. Each pair

@@ -236,6 +236,29 @@ impl Scene {
         Ok(())
     }
 
+    /// Places mesh `id` rigidly (or affinely): the world position of a vertex is `m * (x, y,
+    /// z, 1)` with `m` row-major 3x4, in `f64` (see [`crate::geom::affine`]); None is the
+    /// identity. Every query answers for the world positions. Costs a few operations per
+    /// leaf box; no vertex is touched. NonFinite (nothing changes) for a non-finite entry or
+    /// world positions that could leave the `f32` range; Unsupported for a mesh reading its
+    /// positions from a GL buffer.
+    pub fn set_transform(&mut self, id: MeshId, m: Option<&[f64; 12]>) -> Result<()> {
+        let bound = self.selector.gl_bound(id);
+        let mesh = self.mesh_mut(id)?;
+        if bound && m.is_some_and(|m| *m != crate::geom::affine::IDENTITY) {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} reads its positions from a GL buffer: it cannot be given a \
+                     transform (transform the buffer's positions instead)"
+                ),
+            ));
+        }
+        mesh.set_transform(m)?;
+        self.forget_query();
+        Ok(())
+    }
+
     /// GL_COMPUTE: mesh `id` reads its positions (xyz `f32`, `stride` bytes apart from
     /// `offset`, 0 = 12) from the host's buffer object `buffer` at each query.
     pub fn bind_gl_buffer(
@@ -246,6 +269,15 @@ impl Scene {
         stride: usize,
     ) -> Result<()> {
         let m = self.meshes.get(&id).ok_or_else(|| unknown(id))?;
+        if m.place.is_some() {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} has a transform: it cannot read its positions from a GL buffer \
+                     (set its transform to the identity first)"
+                ),
+            ));
+        }
         self.selector
             .bind_gl_buffer(id, m, buffer, offset, stride)?;
         self.forget_query();
@@ -290,26 +322,65 @@ impl Scene {
                     .map(|(&id, m)| (id, m)),
             );
         }
-        let q = QueryMeshes {
-            meshes,
-            half_depth: f64::from(self.config.epsilon) / 2.0,
-            symmetric: false,
-        };
+        let h = f64::from(self.config.epsilon) / 2.0;
+        // A GL backend holds the meshes in their own frames: pairs with a placed mesh are
+        // answered by the CPU engine (all of them when the reference is placed).
+        let mut on_cpu = Vec::new();
+        if self.selector.backend() != Backend::Cpu && meshes.iter().any(|(_, m)| m.place.is_some())
+        {
+            if r.place.is_some() {
+                on_cpu = std::mem::take(&mut meshes);
+            } else {
+                on_cpu.push(meshes[0]);
+                on_cpu.extend(meshes.iter().skip(1).filter(|(_, m)| m.place.is_some()));
+                meshes.retain(|(_, m)| m.place.is_none());
+            }
+            for &(id, _) in &on_cpu {
+                if self.selector.gl_bound(id) {
+                    self.workspace.stats.readbacks = self.selector.take_readbacks();
+                    return Err(gl_bound_and_placed(id, &on_cpu));
+                }
+            }
+        }
         // The answer goes to `scratch`, swapped in only on success: after a failed query
         // `contacts()` still holds the last successful query's.
-        let res = if q.meshes.len() > 1 {
-            query::run(
+        self.scratch.clear();
+        let mut res = Ok(());
+        if meshes.len() > 1 {
+            let q = QueryMeshes {
+                meshes,
+                half_depth: h,
+                symmetric: false,
+            };
+            res = query::run(
                 self.selector.as_mut(),
                 &q,
                 &mut self.workspace,
                 &mut self.scratch,
-            )
-        } else {
-            self.scratch.clear();
-            Ok(())
-        };
+            );
+        }
+        if res.is_ok() && on_cpu.len() > 1 {
+            let q = QueryMeshes {
+                meshes: on_cpu,
+                half_depth: h,
+                symmetric: false,
+            };
+            let mut w = lock(&self.workers[0]);
+            let w = &mut *w;
+            let mut found = Vec::new();
+            res = query::run(&mut w.cpu, &q, &mut w.workspace, &mut found);
+            self.scratch.extend_from_slice(&found);
+            self.scratch.sort_unstable();
+            let stats = &mut self.workspace.stats;
+            for k in 0..5 {
+                stats.tests[k] += w.workspace.stats.tests[k];
+                stats.hits[k] += w.workspace.stats.hits[k];
+                stats.nanos[k] += w.workspace.stats.nanos[k];
+            }
+        }
         if res.is_err() {
             self.workspace.stats = QueryStats::default();
+            self.scratch.clear();
         }
         self.workspace.stats.readbacks = self.selector.take_readbacks();
         res?;
@@ -374,10 +445,27 @@ impl Scene {
         let mut mesh_pairs = Vec::new();
         whole::mesh_pairs(&list, h, &mut self.broad, &mut mesh_pairs);
         let on_cpu = self.selector.backend() == Backend::Cpu;
-        let mut tasks: Vec<Task> = Vec::new();
-        if on_cpu {
-            tasks.extend(mesh_pairs.iter().map(|&(i, j)| Task::Pair(i, j)));
+        // A GL backend holds the meshes in their own frames: pairs with a placed mesh go to
+        // the CPU engine.
+        let cpu_pair = |&(i, j): &(u32, u32)| {
+            on_cpu || list[i as usize].mesh.place.is_some() || list[j as usize].mesh.place.is_some()
+        };
+        for &(i, j) in mesh_pairs.iter().filter(|p| !on_cpu && cpu_pair(p)) {
+            for (a, b) in [(i, j), (j, i)] {
+                let id = list[a as usize].id;
+                if self.selector.gl_bound(id) {
+                    let other = &list[b as usize];
+                    return Err(gl_bound_and_placed(id, &[(other.id, other.mesh)]));
+                }
+            }
         }
+        let mut tasks: Vec<Task> = Vec::new();
+        tasks.extend(
+            mesh_pairs
+                .iter()
+                .filter(|p| cpu_pair(p))
+                .map(|&(i, j)| Task::Pair(i, j)),
+        );
         for (i, sm) in list.iter().enumerate() {
             if sm.self_collision {
                 let mut w = lock(&self.workers[0]);
@@ -430,7 +518,7 @@ impl Scene {
             // A GL backend answers mesh pair by mesh pair, on the calling thread (its
             // context is current here); with a band, both ways round, as its viewing
             // volumes are the reference's only.
-            for &(i, j) in &mesh_pairs {
+            for &(i, j) in mesh_pairs.iter().filter(|p| !cpu_pair(p)) {
                 let (a, b) = (&list[i as usize], &list[j as usize]);
                 let mut ask = |r: &SceneMesh<'_>, o: &SceneMesh<'_>| -> Result<()> {
                     let q = QueryMeshes {
@@ -600,6 +688,25 @@ fn fresh_mesh_id() -> Option<MeshId> {
             (v < MeshId::MAX).then_some(v + 1)
         })
         .ok()
+}
+
+/// A query that needs the CPU for a placed mesh, with mesh `id` (of `meshes`) reading its
+/// positions from a GL buffer.
+fn gl_bound_and_placed(id: MeshId, meshes: &[(MeshId, &Mesh)]) -> Error {
+    let placed: Vec<String> = meshes
+        .iter()
+        .filter(|(_, m)| m.place.is_some())
+        .map(|(i, _)| i.to_string())
+        .collect();
+    Error::new(
+        ErrorKind::Unsupported,
+        format!(
+            "mesh {id} reads its positions from a GL buffer and would be collided with \
+             transformed mesh(es) {}, which the GL backends leave to the CPU: give those \
+             meshes the identity, or disable one side",
+            placed.join(", ")
+        ),
+    )
 }
 
 fn unknown(id: MeshId) -> Error {

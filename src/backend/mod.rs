@@ -214,9 +214,9 @@ impl QueryMeshes<'_> {
     pub fn boxed(&self, p: Prim) -> crate::geom::Aabb {
         let m = self.mesh(p);
         if p.index == ROOT {
-            m.leaves.root
+            m.root()
         } else {
-            m.leaves.boxes[p.index as usize]
+            m.leaf_boxes()[p.index as usize]
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Geometry: boxes, exact predicates, the exact triangle test and viewing volumes.
 
 pub mod adjacent;
+pub mod affine;
 pub mod contact;
 pub mod polygon;
 pub mod predicates;

@@ -90,10 +90,10 @@ pub struct SelfScratch {
 pub fn self_leaf_pairs(m: &Mesh, h: f64, s: &mut SelfScratch) -> Vec<(u32, u32)> {
     s.grown_leaves.clear();
     s.grown_leaves
-        .extend(m.leaves.boxes.iter().map(|b| b.grown(h)));
+        .extend(m.leaf_boxes().iter().map(|b| b.grown(h)));
     s.leaf_pairs.clear();
     s.sweep
-        .pairs(&s.grown_leaves, &m.leaves.boxes, &mut s.leaf_pairs);
+        .pairs(&s.grown_leaves, m.leaf_boxes(), &mut s.leaf_pairs);
     let mut pairs: Vec<(u32, u32)> = s
         .leaf_pairs
         .iter()

@@ -22,11 +22,12 @@ use crate::mesh::Mesh;
 use lanes::Lanes;
 
 /// Polygon boxes of one mesh, computed a whole leaf at a time on first use and valid while
-/// the mesh's positions do not change (its generation).
+/// the mesh's positions and placement do not change (its generation and pose).
 #[derive(Default)]
 struct BoxCache {
     id: u32,
     generation: u64,
+    pose: u64,
     /// `leaf_stamp[l] == current` marks the boxes of all of leaf `l`'s polygons valid.
     leaf_stamp: Vec<u32>,
     current: u32,
@@ -45,11 +46,12 @@ impl BoxCache {
             self.leaf_stamp.resize(m.leaf_count(), 0);
             self.boxes.resize(n);
             self.current = 1;
-        } else if self.generation != m.generation {
+        } else if self.generation != m.generation || self.pose != m.pose {
             self.current += 1;
         }
         self.id = id;
         self.generation = m.generation;
+        self.pose = m.pose;
     }
 
     /// Makes the boxes of leaf `l`'s polygons valid; returns their range in `boxes`.

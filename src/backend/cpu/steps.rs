@@ -125,8 +125,7 @@ impl Run<'_, '_> {
             if reference.root().overlaps(&m.root(), h) {
                 self.stats.tests[0] += m.leaf_count();
                 s.others.extend(
-                    m.leaves
-                        .boxes
+                    m.leaf_boxes()
                         .iter()
                         .enumerate()
                         .filter(|(_, b)| root.meets(b))
@@ -146,12 +145,12 @@ impl Run<'_, '_> {
         s.grown.extend(
             s.others
                 .iter()
-                .map(|&(mi, l)| q.meshes[mi as usize].1.leaves.boxes[l as usize].grown(h)),
+                .map(|&(mi, l)| q.meshes[mi as usize].1.leaf_boxes()[l as usize].grown(h)),
         );
         self.stats.tests[1] = s.others.len() * reference.leaf_count();
         s.pairs.clear();
         s.sweep
-            .pairs(&s.grown, &reference.leaves.boxes, &mut s.pairs);
+            .pairs(&s.grown, reference.leaf_boxes(), &mut s.pairs);
         s.pairs.sort_unstable();
         self.stats.hits[1] = s.pairs.len();
         !s.pairs.is_empty()
@@ -186,7 +185,7 @@ impl Run<'_, '_> {
         s.other_polys.clear();
         for &(o, r) in &s.pairs {
             let (mi, l) = s.others[o as usize];
-            let vol = reference.leaves.boxes[r as usize].grown(h);
+            let vol = reference.leaf_boxes()[r as usize].grown(h);
             let oc = &mut self.caches[self.slot_cache[mi as usize]];
             let polys = oc.leaf(q.meshes[mi as usize].1, l as usize);
             self.stats.tests[3] += polys.len();
