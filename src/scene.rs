@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use std::sync::Mutex;
 
-use crate::backend::{Backend, CpuSelector, Pair, QueryMeshes, Selector};
+use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
 use crate::geom::contact::{contact_geometry, ContactGeometry};
 use crate::geom::P3;
@@ -344,6 +344,11 @@ impl Scene {
         }
         // The answer goes to `scratch`, swapped in only on success: after a failed query
         // `contacts()` still holds the last successful query's.
+        // The CPU backend's query is the scene's own CPU query (the workers share out its
+        // leaf pairs).
+        if self.selector.is_cpu_engine() {
+            on_cpu = std::mem::take(&mut meshes);
+        }
         self.scratch.clear();
         let mut res = Ok(());
         if meshes.len() > 1 {
@@ -365,17 +370,23 @@ impl Scene {
                 half_depth: h,
                 symmetric: false,
             };
-            let mut w = lock(&self.workers[0]);
-            let w = &mut *w;
-            let mut found = Vec::new();
-            res = query::run(&mut w.cpu, &q, &mut w.workspace, &mut found);
-            self.scratch.extend_from_slice(&found);
-            self.scratch.sort_unstable();
-            let stats = &mut self.workspace.stats;
-            for k in 0..5 {
-                stats.tests[k] += w.workspace.stats.tests[k];
-                stats.hits[k] += w.workspace.stats.hits[k];
-                stats.nanos[k] += w.workspace.stats.nanos[k];
+            let share = self.threads > 1 && worth_sharing(&q);
+            if share {
+                res = start_pool(&mut self.pool, self.threads);
+            }
+            if res.is_ok() {
+                let pool = if share { self.pool.as_ref() } else { None };
+                let mut found = Vec::new();
+                let mut stats = QueryStats::default();
+                cpu_query(&self.workers, pool, &q, &mut found, &mut stats);
+                self.scratch.extend_from_slice(&found);
+                self.scratch.sort_unstable();
+                let total = &mut self.workspace.stats;
+                for k in 0..5 {
+                    total.tests[k] += stats.tests[k];
+                    total.hits[k] += stats.hits[k];
+                    total.nanos[k] += stats.nanos[k];
+                }
             }
         }
         if res.is_err() {
@@ -409,20 +420,8 @@ impl Scene {
 
     /// Starts the worker threads if the scene wants them and they are not running yet.
     fn start_workers(&mut self) -> Result<()> {
-        if self.threads > 1 && self.pool.is_none() {
-            let threads = self.threads;
-            self.pool = Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .thread_name(|i| format!("glcollide-{i}"))
-                    .build()
-                    .map_err(|e| {
-                        Error::new(
-                            ErrorKind::OutOfMemory,
-                            format!("could not start {threads} worker threads: {e}"),
-                        )
-                    })?,
-            );
+        if self.threads > 1 {
+            start_pool(&mut self.pool, self.threads)?;
         }
         Ok(())
     }
@@ -651,6 +650,109 @@ impl Scene {
     pub fn stats(&self) -> QueryStats {
         self.workspace.stats
     }
+}
+
+/// Starts `threads` worker threads into `pool` unless they are running.
+fn start_pool(pool: &mut Option<rayon::ThreadPool>, threads: usize) -> Result<()> {
+    if pool.is_none() {
+        *pool = Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("glcollide-{i}"))
+                .build()
+                .map_err(|e| {
+                    Error::new(
+                        ErrorKind::OutOfMemory,
+                        format!("could not start {threads} worker threads: {e}"),
+                    )
+                })?,
+        );
+    }
+    Ok(())
+}
+
+/// Is the reference query `q` big enough to share out between workers: its reference
+/// mesh, and the other meshes whose roots meet its root, have [`SHARE_QUERY_ABOVE`]
+/// polygons or more?
+fn worth_sharing(q: &QueryMeshes<'_>) -> bool {
+    let r = q.meshes[0].1;
+    let root = r.root();
+    let near: usize = q.meshes[1..]
+        .iter()
+        .filter(|(_, m)| root.overlaps(&m.root(), q.half_depth))
+        .map(|(_, m)| m.polygon_count())
+        .sum();
+    near.min(r.polygon_count()) >= SHARE_QUERY_ABOVE
+}
+
+/// A reference query whose reference mesh, and whose other meshes near it, have fewer
+/// polygons than this runs on the calling thread (sharing it out would cost more than it
+/// saves).
+const SHARE_QUERY_ABOVE: usize = 2048;
+
+/// Leaf pairs per share of a reference query, at least: about eight shares per worker
+/// otherwise, so that the workers stay busy however unevenly the pairs cost.
+const LEAF_PAIRS_PER_SHARE: usize = 4;
+
+/// The CPU engine's reference query `q` (its contacts sorted into `out`, the counts and
+/// times into `stats`), on worker 0 alone without a pool; with one, steps 1 and 2 on the
+/// calling thread, then steps 3 to 5 shared out by leaf pairs. The answer is the same
+/// either way (the union of disjoint leaf pairs' contacts, sorted); step times are summed
+/// over the workers.
+fn cpu_query(
+    workers: &[Mutex<Worker>],
+    pool: Option<&rayon::ThreadPool>,
+    q: &QueryMeshes<'_>,
+    out: &mut Vec<Contact>,
+    stats: &mut QueryStats,
+) {
+    out.clear();
+    *stats = QueryStats::default();
+    let Some(pool) = pool else {
+        let mut w = lock(&workers[0]);
+        let w = &mut *w;
+        // The CPU engine never fails.
+        if query::run(&mut w.cpu, q, &mut w.workspace, out).is_ok() {
+            *stats = w.workspace.stats;
+        }
+        return;
+    };
+    let mut lp = LeafPairs::default();
+    lock(&workers[0]).cpu.leaf_pairs(q, &mut lp, stats);
+    let n = lp.pairs.len();
+    if n == 0 {
+        return;
+    }
+    let share = n
+        .div_ceil(8 * pool.current_num_threads().max(1))
+        .max(LEAF_PAIRS_PER_SHARE);
+    let ranges: Vec<std::ops::Range<usize>> = (0..n)
+        .step_by(share)
+        .map(|a| a..(a + share).min(n))
+        .collect();
+    let found: Vec<(Vec<Contact>, QueryStats)> = pool.install(|| {
+        use rayon::prelude::*;
+        ranges
+            .par_iter()
+            .map(|r| {
+                let at = rayon::current_thread_index().unwrap_or(0) % workers.len();
+                let mut w = lock(&workers[at]);
+                let (mut c, mut st) = (Vec::new(), QueryStats::default());
+                w.cpu.some_pairs(q, &lp, r.clone(), &mut c, &mut st);
+                (c, st)
+            })
+            .collect()
+    });
+    for (c, st) in &found {
+        out.extend_from_slice(c);
+        for k in 2..5 {
+            stats.tests[k] += st.tests[k];
+            stats.hits[k] += st.hits[k];
+            stats.nanos[k] += st.nanos[k];
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
 }
 
 /// A contact of `reference` as a whole-scene pair (`reference` has the lower id).

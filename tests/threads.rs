@@ -119,3 +119,74 @@ fn error_messages_stay_on_their_thread() {
         }
     });
 }
+
+/// Issue 12, item 5: `glcol_query` (the reference query) shares its leaf pairs out between
+/// the scene's workers; the answer and every per-step count are the same for 1, 2 and one
+/// thread per core, on a real organ pair in deep contact (both deformed), at epsilon 0 and
+/// in a band, and with the second organ placed by a transform.
+#[test]
+fn the_reference_query_answers_the_same_for_every_thread_count() {
+    use glcollide::{Positions, Scene, SceneConfig};
+    let colon = TestMesh::from_obj(&shared_mesh("colon"));
+    let bowel = TestMesh::from_obj(&shared_mesh("small_intestine"));
+    let (lo, hi) = bounds(&colon.pos);
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f32, f32::max);
+    let a_pos = wave(&colon.pos, 0.004 * extent, 8.0 / extent, 0.3);
+    let b_pos = wave(&bowel.pos, -0.004 * extent, 8.0 / extent, 0.3);
+    // A quarter turn about z of the second organ's centre-free frame, back in place.
+    let m: [f64; 12] = [0., -1., 0., 0., 1., 0., 0., 0., 0., 0., 1., 0.];
+    let mut turned = b_pos.clone();
+    for p in &mut turned {
+        *p = [p[1], -p[0], p[2]];
+    }
+    for epsilon in [0.0, 1e-3 * extent] {
+        for placed in [false, true] {
+            let mut answers = Vec::new();
+            for threads in [1, 2, 0] {
+                let mut s = Scene::new(SceneConfig {
+                    epsilon,
+                    threads,
+                    ..SceneConfig::default()
+                })
+                .unwrap();
+                let a = s
+                    .create_mesh(Positions::from_points(&a_pos), &colon.idx, 3)
+                    .unwrap();
+                let b_local = if placed { &turned } else { &b_pos };
+                let b = s
+                    .create_mesh(Positions::from_points(b_local), &bowel.idx, 3)
+                    .unwrap();
+                if placed {
+                    s.set_transform(b, Some(&m)).unwrap();
+                }
+                // Mesh ids differ from scene to scene: the polygons only.
+                let polys = |c: &[glcollide::Contact]| -> Vec<(u32, u32)> {
+                    c.iter()
+                        .map(|c| (c.reference_polygon, c.other_polygon))
+                        .collect()
+                };
+                let qa = polys(s.query(a).unwrap());
+                let sa = s.stats();
+                let qb = polys(s.query(b).unwrap());
+                let sb = s.stats();
+                assert!(!qa.is_empty() && !qb.is_empty());
+                answers.push((qa, qb, sa.tests, sa.hits, sb.tests, sb.hits));
+            }
+            for w in answers.windows(2) {
+                assert!(
+                    w[0].0 == w[1].0,
+                    "epsilon {epsilon}, placed {placed}: contacts of a"
+                );
+                assert!(
+                    w[0].1 == w[1].1,
+                    "epsilon {epsilon}, placed {placed}: contacts of b"
+                );
+                assert_eq!(
+                    (w[0].2, w[0].3, w[0].4, w[0].5),
+                    (w[1].2, w[1].3, w[1].4, w[1].5),
+                    "epsilon {epsilon}, placed {placed}: per-step counts"
+                );
+            }
+        }
+    }
+}

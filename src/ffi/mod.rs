@@ -481,9 +481,10 @@ pub unsafe extern "C" fn glcol_mesh_create(
 /// whole on any error (the mesh keeps its previous positions): UNKNOWN_MESH, NULL_POINTER,
 /// INVALID_ARGUMENT (zero count, range past the end, stride, alignment, overflow),
 /// NON_FINITE (also: positions whose world positions under the mesh's
-/// `glcol_mesh_set_transform` matrix would overflow the float range). The range is checked against the mesh before the array is read; an array
-/// shorter than `vertex_count` vertices `position_stride` apart cannot be detected
-/// (undefined behaviour).
+/// `glcol_mesh_set_transform` matrix could overflow the float range). The range is
+/// checked against the mesh before the array is read; an array shorter than
+/// `vertex_count` vertices `position_stride` apart cannot be detected (undefined
+/// behaviour).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
@@ -672,19 +673,19 @@ pub unsafe extern "C" fn glcol_mesh_set_filter(
 /// backends) answers for those double world positions, exact at epsilon 0: the same answer
 /// as for the same world positions given as vertices. Positions given by
 /// `glcol_mesh_create` and `glcol_mesh_update_positions` stay in the mesh's own frame.
-/// NULL `m` (or the identity
-/// matrix): back to the identity, the default. Cost: a few operations per leaf box (about
-/// one box per 450 polygons), no vertex is read or written, so moving an instrument costs
-/// far less than updating its vertices. The mesh's boxes follow the matrix conservatively
-/// (a rotated mesh's boxes are looser, which costs culling, never an answer). The GL
-/// backends answer the pairs that involve a transformed mesh with the CPU engine (a query
-/// that would collide a transformed mesh with a mesh bound to a GL buffer answers
-/// UNSUPPORTED). Statuses: NULL_POINTER (scene), UNKNOWN_MESH; NON_FINITE when an entry is NaN or
-/// infinite, or when world positions could overflow the float range (|m| times the
-/// largest local coordinates plus |translation| above FLT_MAX, judged from the mesh's
-/// bounding box; `glcol_mesh_update_positions` then refuses positions that would overflow
-/// under the mesh's matrix); UNSUPPORTED for a mesh bound to a GL buffer
-/// (`glcol_mesh_bind_gl_buffer`). On failure nothing changes.
+/// NULL `m` (or the identity matrix): back to the identity, the default. Cost: a few
+/// operations per leaf box (about one box per 450 polygons), no vertex is read or written,
+/// so moving an instrument costs far less than updating its vertices. The mesh's boxes
+/// follow the matrix conservatively (a rotated mesh's boxes are looser, which costs
+/// culling, never an answer). The GL backends answer the pairs that involve a transformed
+/// mesh with the CPU engine (a query that would collide a transformed mesh with a mesh
+/// bound to a GL buffer answers UNSUPPORTED). Statuses: NULL_POINTER (scene),
+/// UNKNOWN_MESH; NON_FINITE when an entry is NaN or infinite, or when world positions
+/// could overflow the float range (|m| times the largest local coordinates plus
+/// |translation| above FLT_MAX, judged from the mesh's bounding box;
+/// `glcol_mesh_update_positions` then refuses positions that would overflow under the
+/// mesh's matrix); UNSUPPORTED for a mesh bound to a GL buffer (`glcol_mesh_bind_gl_buffer`).
+/// On failure nothing changes.
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `m` is NULL or points at 12 readable doubles.
@@ -772,8 +773,9 @@ fn to_f32(x: f64) -> f32 {
 /// `glcol_query_all`, in the same order: entry i describes contact (or pair) i; polygon a
 /// is the reference polygon (or polygon_a), b the other. Computed at this call (a query not
 /// followed by it costs nothing more), in double precision from the world positions (the
-/// float positions, or their `glcol_mesh_set_transform` images) in a frame local to the pair, each value then rounded to the nearest float (normals stay
-/// unit within that rounding; no NaN, no infinity). On success `*out_geometry` points at
+/// float positions, or their `glcol_mesh_set_transform` images) in a frame local to the
+/// pair, each value then rounded to the nearest float (normals stay unit within that
+/// rounding; no NaN, no infinity). On success `*out_geometry` points at
 /// `*out_count` entries (NULL when 0), owned by the scene like the pairs (valid until the
 /// next non-const call); the contacts or pairs arrays stay valid.
 /// Rules (exact decisions, as the query's):

@@ -20,6 +20,7 @@ use super::{Backend, Contact, Engine, QueryMeshes, QueryStats, Selector, WholeQu
 use crate::error::Result;
 use crate::mesh::Mesh;
 use lanes::Lanes;
+pub use steps::LeafPairs;
 
 /// Polygon boxes of one mesh, computed a whole leaf at a time on first use and valid while
 /// the mesh's positions and placement do not change (its generation and pose).
@@ -99,6 +100,50 @@ impl CpuSelector {
     }
 }
 
+impl CpuSelector {
+    /// Steps 1 and 2 of the query `q`: its leaf pairs into `lp`, the counts and times of
+    /// those steps into `stats` (the rest zeroed).
+    pub fn leaf_pairs(&mut self, q: &QueryMeshes<'_>, lp: &mut LeafPairs, stats: &mut QueryStats) {
+        *stats = QueryStats::default();
+        self.sync_caches(q);
+        let mut run = steps::Run {
+            q,
+            h: q.half_depth,
+            s: &mut self.scratch,
+            caches: &mut self.caches,
+            slot_cache: &self.slot_cache,
+            stats,
+        };
+        run.leaf_pairs(lp);
+    }
+
+    /// Steps 3 to 5 of the query `q` on the leaf pairs `lp.pairs[range]` (from
+    /// [`CpuSelector::leaf_pairs`] of the same query, on any selector): their contacts
+    /// appended to `out` (each once, any order), the counts and times of steps 3 to 5 into
+    /// `stats` (the rest zeroed, but for step 2's hits: the pairs taken). The contacts of
+    /// disjoint ranges covering all pairs are the query's.
+    pub fn some_pairs(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        lp: &LeafPairs,
+        range: std::ops::Range<usize>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) {
+        *stats = QueryStats::default();
+        self.sync_caches(q);
+        let mut run = steps::Run {
+            q,
+            h: q.half_depth,
+            s: &mut self.scratch,
+            caches: &mut self.caches,
+            slot_cache: &self.slot_cache,
+            stats,
+        };
+        run.some_pairs(lp, range, out);
+    }
+}
+
 impl std::fmt::Debug for CpuSelector {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("CpuSelector")
@@ -112,6 +157,10 @@ impl Selector for CpuSelector {
 
     fn engine(&mut self) -> Engine<'_> {
         Engine::Whole(self)
+    }
+
+    fn is_cpu_engine(&self) -> bool {
+        true
     }
 
     fn mesh_destroyed(&mut self, id: u32) {
