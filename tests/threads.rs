@@ -190,3 +190,81 @@ fn the_reference_query_answers_the_same_for_every_thread_count() {
         }
     }
 }
+
+/// The reference query's wall time on 1 and 2 threads, heavy case (colon vs small
+/// intestine, both deformed anew every frame). Prints a table, asserts nothing about time:
+/// `cargo test --release --test threads -- --ignored --nocapture reference_query_speed`
+#[test]
+#[ignore]
+fn reference_query_speed() {
+    use glcollide::{Positions, Scene, SceneConfig};
+    use std::time::Instant;
+    let colon = TestMesh::from_obj(&shared_mesh("colon"));
+    let bowel = TestMesh::from_obj(&shared_mesh("small_intestine"));
+    let (lo, hi) = bounds(&colon.pos);
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f32, f32::max);
+    let frames: Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)> = (0..8)
+        .map(|f| {
+            let t = f as f32 * 0.1;
+            (
+                wave(&colon.pos, 0.004 * extent, 8.0 / extent, t),
+                wave(&bowel.pos, -0.004 * extent, 8.0 / extent, t),
+            )
+        })
+        .collect();
+    // CPU time of the whole process (all threads), in clock ticks, from /proc: sampled by
+    // the kernel, so summed over many queries it estimates the CPU the queries used.
+    let cpu_ticks = || -> u64 {
+        let s = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+        let rest = s.rsplit(')').next().unwrap_or("");
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        f.get(11).and_then(|u| u.parse::<u64>().ok()).unwrap_or(0)
+            + f.get(12).and_then(|u| u.parse::<u64>().ok()).unwrap_or(0)
+    };
+    println!(
+        "| threads | epsilon | contacts | query median µs | query min µs | CPU µs per query (all threads) |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|");
+    for epsilon in [0.0, 1e-3 * extent] {
+        for round in 0..3 {
+            for threads in [1, 2] {
+                let mut s = Scene::new(SceneConfig {
+                    epsilon,
+                    threads,
+                    ..SceneConfig::default()
+                })
+                .unwrap();
+                let a = s
+                    .create_mesh(Positions::from_points(&frames[0].0), &colon.idx, 3)
+                    .unwrap();
+                let b = s
+                    .create_mesh(Positions::from_points(&frames[0].1), &bowel.idx, 3)
+                    .unwrap();
+                let mut times = Vec::new();
+                let (mut n, mut ticks) = (0, 0);
+                let queries = 400;
+                for i in 0..queries {
+                    let (fa, fb) = &frames[i % frames.len()];
+                    s.update_positions(a, 0, Positions::from_points(fa))
+                        .unwrap();
+                    s.update_positions(b, 0, Positions::from_points(fb))
+                        .unwrap();
+                    let c0 = cpu_ticks();
+                    let t = Instant::now();
+                    n = s.query(a).unwrap().len();
+                    times.push(t.elapsed().as_secs_f64() * 1e6);
+                    ticks += cpu_ticks() - c0;
+                }
+                times.sort_by(f64::total_cmp);
+                // Clock ticks are 10 ms on Linux (USER_HZ = 100).
+                let cpu = ticks as f64 * 1e4 / queries as f64;
+                println!(
+                    "| {threads} | {epsilon} | {n} | {:.0} | {:.0} | {cpu:.0} |{}",
+                    times[times.len() / 2],
+                    times[0],
+                    if round == 0 { " (warm-up round)" } else { "" }
+                );
+            }
+        }
+    }
+}
