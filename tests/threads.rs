@@ -203,7 +203,8 @@ fn reference_query_speed() {
     let bowel = TestMesh::from_obj(&shared_mesh("small_intestine"));
     let (lo, hi) = bounds(&colon.pos);
     let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f32, f32::max);
-    let frames: Vec<(Vec<[f32; 3]>, Vec<[f32; 3]>)> = (0..8)
+    type Frame = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+    let frames: Vec<Frame> = (0..8)
         .map(|f| {
             let t = f as f32 * 0.1;
             (
