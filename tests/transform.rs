@@ -843,4 +843,77 @@ mod gl {
             }
         }
     }
+
+    /// A mesh reading its positions from a host GL buffer cannot be placed, a placed mesh
+    /// cannot be bound, and a query that would need both on the CPU is refused: each with
+    /// UNSUPPORTED and a message, changing nothing.
+    #[test]
+    fn placement_and_gl_buffers_do_not_mix() {
+        use glow::HasContext;
+        let ctx = Ctx::new(Profile::Core);
+        let g = ctx.glow();
+        let t = teapot();
+        let (_, m, _) = float_exact_matrices()[0];
+        let mut s = FfiScene(gl_support::scene(GlcolBackend::GlCompute, 0.001, 0));
+        let a = s.add(&t);
+        let b = s.add(&t);
+        // SAFETY: this test's GL context is current on this thread; the buffer is its own.
+        let host = unsafe {
+            let host = g.create_buffer().unwrap();
+            g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
+            let bytes = std::slice::from_raw_parts(t.pos.as_ptr().cast::<u8>(), t.pos.len() * 12);
+            g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+            g.bind_buffer(glow::ARRAY_BUFFER, None);
+            host
+        };
+        ok(
+            unsafe { glcol_mesh_bind_gl_buffer(s.0, a, host.0.get(), 0, 12) },
+            "bind",
+        );
+        let before = s.query(b);
+        assert!(!before.is_empty());
+        assert_eq!(
+            unsafe { glcol_mesh_set_transform(s.0, a, m.as_ptr()) },
+            GlcolStatus::Unsupported
+        );
+        assert!(common::backends::last_error().contains("GL buffer"));
+        // The identity is no placement: accepted.
+        ok(
+            unsafe { glcol_mesh_set_transform(s.0, a, std::ptr::null()) },
+            "identity on a bound mesh",
+        );
+        assert_eq!(s.query(b), before);
+        // b placed: a query pairing it with the bound a is refused, naming both.
+        ok(
+            unsafe { glcol_mesh_set_transform(s.0, b, m.as_ptr()) },
+            "place b",
+        );
+        let (status, _) = s.try_query(b);
+        assert_eq!(status, GlcolStatus::Unsupported);
+        let msg = common::backends::last_error();
+        assert!(
+            msg.contains(&a.to_string()) && msg.contains(&b.to_string()),
+            "{msg}"
+        );
+        let (mut p, mut n) = (std::ptr::null(), 0usize);
+        assert_eq!(
+            unsafe { glcol_query_all(s.0, &mut p, &mut n) },
+            GlcolStatus::Unsupported
+        );
+        // A placed mesh cannot be bound.
+        assert_eq!(
+            unsafe { glcol_mesh_bind_gl_buffer(s.0, b, host.0.get(), 0, 12) },
+            GlcolStatus::Unsupported
+        );
+        assert!(common::backends::last_error().contains("transform"));
+        // Back to the identity: the query answers as before.
+        ok(
+            unsafe { glcol_mesh_set_transform(s.0, b, std::ptr::null()) },
+            "unplace b",
+        );
+        assert_eq!(s.query(b), before);
+        drop(s);
+        // SAFETY: as above.
+        unsafe { g.delete_buffer(host) };
+    }
 }
