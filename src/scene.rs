@@ -99,6 +99,8 @@ struct Worker {
 /// of one mesh's self-colliding leaf pairs.
 enum Task {
     Pair(u32, u32),
+    /// A share of a big mesh pair's leaf pairs: (index in the shared pairs, range).
+    Share(usize, std::ops::Range<usize>),
     Own(u32, Vec<(u32, u32)>),
 }
 
@@ -459,12 +461,32 @@ impl Scene {
             }
         }
         let mut tasks: Vec<Task> = Vec::new();
-        tasks.extend(
-            mesh_pairs
-                .iter()
-                .filter(|p| cpu_pair(p))
-                .map(|&(i, j)| Task::Pair(i, j)),
-        );
+        // A big mesh pair is shared out by its leaf pairs (steps 1 and 2 here, on the
+        // calling thread), like a big reference query; the others are one task each.
+        let mut shared: Vec<(u32, u32, LeafPairs)> = Vec::new();
+        let pair_query = |i: u32, j: u32| {
+            let (a, b) = (&list[i as usize], &list[j as usize]);
+            QueryMeshes {
+                meshes: vec![(a.id, a.mesh), (b.id, b.mesh)],
+                half_depth: h,
+                symmetric: true,
+            }
+        };
+        for &(i, j) in mesh_pairs.iter().filter(|p| cpu_pair(p)) {
+            let q = pair_query(i, j);
+            if self.threads > 1 && worth_sharing(&q) {
+                let mut lp = LeafPairs::default();
+                let mut stats = QueryStats::default();
+                lock(&self.workers[0])
+                    .cpu
+                    .leaf_pairs(&q, &mut lp, &mut stats);
+                let k = shared.len();
+                tasks.extend(shares(lp.pairs.len(), self.threads).map(|r| Task::Share(k, r)));
+                shared.push((i, j, lp));
+            } else {
+                tasks.push(Task::Pair(i, j));
+            }
+        }
         for (i, sm) in list.iter().enumerate() {
             if sm.self_collision {
                 let mut w = lock(&self.workers[0]);
@@ -484,17 +506,20 @@ impl Scene {
             let mut out = Vec::new();
             match *t {
                 Task::Pair(i, j) => {
-                    let (a, b) = (&list[i as usize], &list[j as usize]);
-                    let q = QueryMeshes {
-                        meshes: vec![(a.id, a.mesh), (b.id, b.mesh)],
-                        half_depth: h,
-                        symmetric: true,
-                    };
+                    let q = pair_query(i, j);
                     let mut found = Vec::new();
                     // The CPU engine never fails.
                     if query::run(&mut w.cpu, &q, &mut w.workspace, &mut found).is_ok() {
-                        out.extend(found.iter().map(|c| pair(a.id, c)));
+                        out.extend(found.iter().map(|c| pair(list[i as usize].id, c)));
                     }
+                }
+                Task::Share(k, ref r) => {
+                    let (i, j, ref lp) = shared[k];
+                    let q = pair_query(i, j);
+                    let mut found = Vec::new();
+                    let mut stats = QueryStats::default();
+                    w.cpu.some_pairs(&q, lp, r.clone(), &mut found, &mut stats);
+                    out.extend(found.iter().map(|c| pair(list[i as usize].id, c)));
                 }
                 Task::Own(i, ref leaf_pairs) => {
                     let sm = &list[i as usize];
@@ -694,6 +719,13 @@ const SHARE_QUERY_ABOVE: usize = 2048;
 /// otherwise, so that the workers stay busy however unevenly the pairs cost.
 const LEAF_PAIRS_PER_SHARE: usize = 4;
 
+/// `n` leaf pairs in contiguous shares for `threads` workers: about eight shares per
+/// worker, at least [`LEAF_PAIRS_PER_SHARE`] pairs each.
+fn shares(n: usize, threads: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+    let share = n.div_ceil(8 * threads.max(1)).max(LEAF_PAIRS_PER_SHARE);
+    (0..n).step_by(share).map(move |a| a..(a + share).min(n))
+}
+
 /// The CPU engine's reference query `q` (its contacts sorted into `out`, the counts and
 /// times into `stats`), on worker 0 alone without a pool; with one, steps 1 and 2 on the
 /// calling thread, then steps 3 to 5 shared out by leaf pairs. The answer is the same
@@ -723,13 +755,7 @@ fn cpu_query(
     if n == 0 {
         return;
     }
-    let share = n
-        .div_ceil(8 * pool.current_num_threads().max(1))
-        .max(LEAF_PAIRS_PER_SHARE);
-    let ranges: Vec<std::ops::Range<usize>> = (0..n)
-        .step_by(share)
-        .map(|a| a..(a + share).min(n))
-        .collect();
+    let ranges: Vec<std::ops::Range<usize>> = shares(n, pool.current_num_threads()).collect();
     let found: Vec<(Vec<Contact>, QueryStats)> = pool.install(|| {
         use rayon::prelude::*;
         ranges

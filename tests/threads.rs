@@ -120,9 +120,9 @@ fn error_messages_stay_on_their_thread() {
     });
 }
 
-/// Issue 12, item 5: `glcol_query` (the reference query) shares its leaf pairs out between
-/// the scene's workers; the answer and every per-step count are the same for 1, 2 and one
-/// thread per core, on a real organ pair in deep contact (both deformed), at epsilon 0 and
+/// Issue 12, item 5: `glcol_query` (the reference query), and `glcol_query_all` for a big
+/// mesh pair, share their leaf pairs out between the scene's workers; the answer (and every
+/// per-step count of the reference query) is the same for 1, 2 and one thread per core, on a real organ pair in deep contact (both deformed), at epsilon 0 and
 /// in a band, and with the second organ placed by a transform.
 #[test]
 fn the_reference_query_answers_the_same_for_every_thread_count() {
@@ -170,7 +170,15 @@ fn the_reference_query_answers_the_same_for_every_thread_count() {
                 let qb = polys(s.query(b).unwrap());
                 let sb = s.stats();
                 assert!(!qa.is_empty() && !qb.is_empty());
-                answers.push((qa, qb, sa.tests, sa.hits, sb.tests, sb.hits));
+                // The whole-scene query shares the big pair out the same way.
+                let all: Vec<(bool, u32, bool, u32)> = s
+                    .query_all()
+                    .unwrap()
+                    .iter()
+                    .map(|p| (p.mesh_a == a, p.polygon_a, p.mesh_b == a, p.polygon_b))
+                    .collect();
+                assert!(all.len() >= qa.len());
+                answers.push((qa, qb, sa.tests, sa.hits, sb.tests, sb.hits, all));
             }
             for w in answers.windows(2) {
                 assert!(
@@ -180,6 +188,10 @@ fn the_reference_query_answers_the_same_for_every_thread_count() {
                 assert!(
                     w[0].1 == w[1].1,
                     "epsilon {epsilon}, placed {placed}: contacts of b"
+                );
+                assert!(
+                    w[0].6 == w[1].6,
+                    "epsilon {epsilon}, placed {placed}: query_all"
                 );
                 assert_eq!(
                     (w[0].2, w[0].3, w[0].4, w[0].5),
