@@ -1,6 +1,9 @@
 //! Per-frame cost of glcollide alone (CPU backend): update (both meshes) and query, median
 //! over the frames, with the contact counts and what each step asked.
 //!   cargo bench --bench frame [-- FRAMES]
+//! Environment: FRAME_CASE (a substring of the case names), FRAME_LEAVES (leaf sizes,
+//! default "0,32"), FRAME_THREADS (worker threads, default "1"; step times are summed over
+//! the workers).
 
 use std::time::Instant;
 
@@ -95,11 +98,11 @@ fn organ_case(a: &str, b: &str, frames: usize) -> Case {
     }
 }
 
-fn run(c: &Case, leaf: u32, eps: f32) {
+fn run(c: &Case, leaf: u32, eps: f32, threads: u32) {
     let mut scene = Scene::new(SceneConfig {
         epsilon: eps,
         max_polygons_per_box: leaf,
-        ..SceneConfig::default()
+        threads,
     })
     .unwrap();
     let ia = scene
@@ -134,7 +137,7 @@ fn run(c: &Case, leaf: u32, eps: f32) {
     let frames = c.frames_a.len();
     let (u, qq) = (median(&mut up), median(&mut q));
     println!(
-        "| {} | {} | {} | {:.0} | {:.1} | {:.1} | {:.1} | {} | {} |",
+        "| {} | {threads} | {} | {} | {:.0} | {:.1} | {:.1} | {:.1} | {} | {} |",
         c.name,
         if leaf == 0 {
             "auto".to_string()
@@ -167,9 +170,9 @@ fn main() {
         .find_map(|a| a.parse().ok())
         .unwrap_or(100);
     println!(
-        "| scene | leaf | eps | contacts | update µs | query µs | frame µs | tests per step 1-5 |"
+        "| scene | threads | leaf | eps | contacts | update µs | query µs | frame µs | tests per step 1-5 | µs per step 1-5 |"
     );
-    println!("|---|---|---|---:|---:|---:|---:|---|");
+    println!("|---|---:|---|---|---:|---:|---:|---:|---|---|");
     let cases = [
         instrument_case("scissors_blade", "gallbladder_glt", frames),
         instrument_case("scissors_blade", "spine_pelvis", frames),
@@ -182,8 +185,14 @@ fn main() {
             .ok()
             .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
             .unwrap_or_else(|| vec![0, 32]);
+        let threads: Vec<u32> = std::env::var("FRAME_THREADS")
+            .ok()
+            .map(|v| v.split(',').filter_map(|x| x.parse().ok()).collect())
+            .unwrap_or_else(|| vec![1]);
         for &leaf in &leaves {
-            run(c, leaf, 0.0);
+            for &t in &threads {
+                run(c, leaf, 0.0, t);
+            }
         }
     }
 }

@@ -246,7 +246,12 @@ fn main() {
             d.frames_a.len()
         );
         let flat = |t: &[[u32; 3]]| t.iter().flatten().copied().collect::<Vec<u32>>();
-        let mut scene = Scene::new(SceneConfig::default()).unwrap();
+        // One thread, like parry's loop here.
+        let mut scene = Scene::new(SceneConfig {
+            threads: 1,
+            ..SceneConfig::default()
+        })
+        .unwrap();
         let ia = scene
             .create_mesh(Positions::from_points(&d.frames_a[0]), &flat(&d.ta), 3)
             .unwrap();

@@ -190,6 +190,19 @@ int main(void) {
     expect(glcol_mesh_update_positions(scene, a, moved, 0, 4, 0), GLCOL_STATUS_NON_FINITE, "vertex 3", "update(NaN)");
     expect(glcol_mesh_update_positions(scene, a, moved + 9, 3, 1, 0), GLCOL_STATUS_NON_FINITE, "vertex 3", "update(range NaN)");
 
+    /* Transforms: a NaN entry, world positions past the float range, an unknown mesh, a NULL
+       scene; a NULL matrix is the identity. */
+    double m[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    m[5] = NAN;
+    expect(glcol_mesh_set_transform(scene, a, m), GLCOL_STATUS_NON_FINITE, "m[5]", "set_transform(NaN)");
+    m[5] = 1;
+    m[3] = 1e300;
+    expect(glcol_mesh_set_transform(scene, a, m), GLCOL_STATUS_NON_FINITE, "float range", "set_transform(overflow)");
+    m[3] = 0;
+    expect(glcol_mesh_set_transform(scene, 999, m), GLCOL_STATUS_UNKNOWN_MESH, "999", "set_transform(unknown)");
+    expect(glcol_mesh_set_transform(NULL, a, m), GLCOL_STATUS_NULL_POINTER, "scene", "set_transform(NULL scene)");
+    expect(glcol_mesh_set_transform(scene, a, NULL), GLCOL_STATUS_OK, NULL, "set_transform(NULL m)");
+
     /* Enable, destroy, query, bind. */
     expect(glcol_mesh_set_enabled(scene, 0, false), GLCOL_STATUS_UNKNOWN_MESH, "0", "set_enabled(id 0)");
     expect(glcol_mesh_set_enabled(NULL, a, false), GLCOL_STATUS_NULL_POINTER, "scene", "set_enabled(NULL)");

@@ -2,7 +2,8 @@
 
 use crate::bvh::{partition, rule_of_thumb, LeafBoxes};
 use crate::error::{Error, ErrorKind, Result};
-use crate::geom::{widen, Aabb, P3};
+use crate::geom::affine::Affine;
+use crate::geom::{f32_down, f32_up, widen, Aabb, P3};
 
 /// Most vertices a mesh can have, 2^32 - 1: vertex numbers are `u32`. The one limit of the
 /// C API's `glcol_mesh_create` (checked before any array is read), [`Positions::new`] and
@@ -212,6 +213,59 @@ pub struct Mesh {
     pub(crate) mask: u32,
     /// Bumped at every position change (lets GPU copies know they are stale).
     pub(crate) generation: u64,
+    /// The placement (None: the identity, world positions are the `f32` ones).
+    pub(crate) place: Option<Box<Placement>>,
+    /// Bumped at every placement change (world polygon boxes cached per mesh are stale).
+    pub(crate) pose: u64,
+}
+
+/// A mesh's placement: its matrix and its leaf boxes carried into the world
+/// ([`Affine::world_box`] of the local boxes, never of the vertices).
+#[derive(Clone, Debug)]
+pub(crate) struct Placement {
+    pub(crate) m: Affine,
+    /// World boxes of the leaves, and of the root.
+    pub(crate) boxes: Vec<Aabb>,
+    pub(crate) root: Aabb,
+}
+
+impl Placement {
+    /// Refuses a matrix under which some world coordinate of local box `root` could leave
+    /// the `f32` range (NonFinite).
+    fn check_range(m: &Affine, root: &Aabb, what: &str) -> Result<()> {
+        let bound = m.magnitude_bound(root);
+        if let Some(r) = (0..3).find(|&r| bound[r] > f64::from(f32::MAX)) {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                format!(
+                    "{what}: world coordinate {} could reach {:e} (|m| * the largest local \
+                     coordinates + |translation|), beyond the float range (3.4e38)",
+                    ["x", "y", "z"][r],
+                    bound[r]
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The placement of local leaf boxes `leaves` by `m` (checked by `check_range`).
+    fn of(m: Affine, leaves: &LeafBoxes) -> Placement {
+        let mut p = Placement {
+            m,
+            boxes: Vec::new(),
+            root: Aabb::EMPTY,
+        };
+        p.refit(leaves);
+        p
+    }
+
+    /// The world boxes of the (refitted) local leaf boxes. No allocation once sized.
+    fn refit(&mut self, leaves: &LeafBoxes) {
+        self.boxes.clear();
+        self.boxes
+            .extend(leaves.boxes.iter().map(|b| self.m.world_box(b)));
+        self.root = self.m.world_box(&leaves.root);
+    }
 }
 
 impl Mesh {
@@ -345,6 +399,8 @@ impl Mesh {
             group: 1,
             mask: u32::MAX,
             generation: 0,
+            place: None,
+            pose: 0,
         })
     }
 
@@ -368,14 +424,84 @@ impl Mesh {
         self.leaves.len()
     }
 
-    /// The leaf boxes (the root box and one box per leaf).
+    /// The leaf structure in the mesh's own frame (the local root box and one local box per
+    /// leaf, the polygon and slot ranges of each leaf).
     pub fn leaves(&self) -> &LeafBoxes {
         &self.leaves
     }
 
-    /// The root box: every vertex of the mesh.
+    /// The world leaf boxes: the local ones, or with a placement boxes holding every world
+    /// position of their leaves (in `f32`, rounded outward).
+    #[inline]
+    pub fn leaf_boxes(&self) -> &[Aabb] {
+        match &self.place {
+            Some(p) => &p.boxes,
+            None => &self.leaves.boxes,
+        }
+    }
+
+    /// The world root box: every vertex of the mesh at its world position (rounded
+    /// outward to `f32` under a placement).
+    #[inline]
     pub fn root(&self) -> Aabb {
-        self.leaves.root
+        match &self.place {
+            Some(p) => p.root,
+            None => self.leaves.root,
+        }
+    }
+
+    /// The placement matrix (row-major 3x4), None for the identity.
+    pub fn transform(&self) -> Option<&[f64; 12]> {
+        self.place.as_ref().map(|p| &p.m.0)
+    }
+
+    /// Places the mesh: world position `m * (x, y, z, 1)` of every vertex (None, or a
+    /// matrix equal to the identity: the vertices as given). Costs a few operations per
+    /// leaf box, never touches a vertex. Refused (nothing changes) when an entry is not
+    /// finite or a world coordinate could leave the `f32` range (NonFinite).
+    pub fn set_transform(&mut self, m: Option<&[f64; 12]>) -> Result<()> {
+        let m = match m {
+            Some(m) if !Affine(*m).is_identity() => *m,
+            _ => {
+                if self.place.take().is_some() {
+                    self.pose += 1;
+                }
+                return Ok(());
+            }
+        };
+        if let Some(i) = Affine::first_non_finite(&m) {
+            return Err(Error::new(
+                ErrorKind::NonFinite,
+                format!("m[{i}] is {}; every entry must be finite", m[i]),
+            ));
+        }
+        let a = Affine(m);
+        Placement::check_range(&a, &self.leaves.root, "m")?;
+        match &mut self.place {
+            Some(p) => {
+                p.m = a;
+                p.refit(&self.leaves);
+            }
+            None => self.place = Some(Box::new(Placement::of(a, &self.leaves))),
+        }
+        self.pose += 1;
+        Ok(())
+    }
+
+    /// The world position of slot `s`.
+    #[inline]
+    pub(crate) fn world(&self, s: usize) -> P3 {
+        match &self.place {
+            Some(p) => p.m.apply(&self.slots[s]),
+            None => widen(&self.slots[s]),
+        }
+    }
+
+    /// The caller's vertex `v` at its world position (None for a vertex no polygon uses).
+    pub fn world_position(&self, v: usize) -> Option<P3> {
+        let s = *self.vertex_slot_start.get(v)? as usize;
+        (s < *self.vertex_slot_start.get(v + 1)? as usize)
+            .then(|| self.world(self.vertex_slots[s] as usize))
     }
 
     /// Slot positions, leaf after leaf (what the polygons index).
@@ -424,34 +550,81 @@ impl Mesh {
                 format!("positions: vertex {v} has a NaN or infinite coordinate"),
             )
         };
-        if first == 0 && end == n {
-            // Full update: check, then gather straight into the slots.
-            if !src.all_finite() {
-                return Err(non_finite(src.first_non_finite().unwrap_or(0)));
-            }
-            src.gather(&self.slot_vertex, &mut self.slots);
-        } else {
-            if !src.all_finite() {
-                return Err(non_finite(first + src.first_non_finite().unwrap_or(0)));
-            }
-            for i in 0..src.len() {
-                let p = src.get(i);
-                let v = first + i;
-                for &s in &self.vertex_slots
-                    [self.vertex_slot_start[v] as usize..self.vertex_slot_start[v + 1] as usize]
-                {
-                    self.slots[s as usize] = p;
+        let full = first == 0 && end == n;
+        if !src.all_finite() {
+            let at = src.first_non_finite().unwrap_or(0);
+            return Err(non_finite(if full { at } else { first + at }));
+        }
+        // Under a placement the new world positions must stay in range: decided before
+        // anything changes from a box holding every vertex after the update (the new ones,
+        // and for a partial update the old root too). Only when that box is out of range
+        // for a partial update is the exact answer needed: then the update is applied,
+        // checked and undone if it fails.
+        let mut undo = None;
+        if let Some(p) = &self.place {
+            let mut b = Aabb::EMPTY;
+            (0..src.len()).for_each(|i| b.grow(&src.get(i)));
+            if full {
+                Placement::check_range(&p.m, &b, "positions")?;
+            } else {
+                b.merge(&self.leaves.root);
+                if Placement::check_range(&p.m, &b, "positions").is_err() {
+                    undo = Some(
+                        (first..end)
+                            .map(|v| self.vertex_position(v))
+                            .collect::<Vec<_>>(),
+                    );
                 }
             }
         }
+        self.write_positions(first, &src);
         self.leaves.refit(&self.slots);
+        if let Some(p) = &self.place {
+            if let Err(e) = Placement::check_range(&p.m, &self.leaves.root, "positions") {
+                // Only reached with `undo` set (a full update was checked exactly above).
+                for (i, old) in undo.into_iter().flatten().enumerate() {
+                    if let Some(old) = old {
+                        self.set_vertex(first + i, old);
+                    }
+                }
+                self.leaves.refit(&self.slots);
+                return Err(e);
+            }
+        }
+        if let Some(p) = &mut self.place {
+            p.refit(&self.leaves);
+        }
         self.generation += 1;
         Ok(())
+    }
+
+    /// Copies `src` to the caller's vertices `first..` (checked by the caller).
+    fn write_positions(&mut self, first: usize, src: &Positions<'_>) {
+        if first == 0 && src.len() == self.vertex_count() {
+            src.gather(&self.slot_vertex, &mut self.slots);
+        } else {
+            for i in 0..src.len() {
+                self.set_vertex(first + i, src.get(i));
+            }
+        }
+    }
+
+    /// Every slot of the caller's vertex `v` becomes `p`.
+    #[inline]
+    fn set_vertex(&mut self, v: usize, p: [f32; 3]) {
+        for &s in &self.vertex_slots
+            [self.vertex_slot_start[v] as usize..self.vertex_slot_start[v + 1] as usize]
+        {
+            self.slots[s as usize] = p;
+        }
     }
 
     /// Refits the leaf boxes to the current positions (what an update does after copying).
     pub fn refit(&mut self) {
         self.leaves.refit(&self.slots);
+        if let Some(p) = &mut self.place {
+            p.refit(&self.leaves);
+        }
     }
 
     /// Slot indices of leaf-ordered polygon `p`.
@@ -460,12 +633,29 @@ impl Mesh {
         &self.polys[p * self.k..(p + 1) * self.k]
     }
 
-    /// Box of leaf-ordered polygon `p`.
+    /// World box of leaf-ordered polygon `p` (under a placement: its world positions'
+    /// box rounded outward to `f32`).
     #[inline]
     pub fn poly_box(&self, p: usize) -> Aabb {
         let mut b = Aabb::EMPTY;
-        for &v in self.poly(p) {
-            b.grow(&self.slots[v as usize]);
+        match &self.place {
+            None => {
+                for &v in self.poly(p) {
+                    b.grow(&self.slots[v as usize]);
+                }
+            }
+            Some(pl) => {
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for &v in self.poly(p) {
+                    let w = pl.m.apply(&self.slots[v as usize]);
+                    for ((l, h), x) in lo.iter_mut().zip(&mut hi).zip(w) {
+                        *l = l.min(x);
+                        *h = h.max(x);
+                    }
+                }
+                b.min = lo.map(f32_down);
+                b.max = hi.map(f32_up);
+            }
         }
         b
     }
@@ -477,12 +667,12 @@ impl Mesh {
         Some(self.triangles(at as usize, out))
     }
 
-    /// The triangles of leaf-ordered polygon `p`: one for a triangle, (v0,v1,v2) and
-    /// (v0,v2,v3) for a quad. Returns how many were written.
+    /// The triangles of leaf-ordered polygon `p` at their world positions: one for a
+    /// triangle, (v0,v1,v2) and (v0,v2,v3) for a quad. Returns how many were written.
     #[inline]
     pub fn triangles(&self, p: usize, out: &mut [[P3; 3]; 2]) -> usize {
         let v = self.poly(p);
-        let w = |i: usize| widen(&self.slots[v[i] as usize]);
+        let w = |i: usize| self.world(v[i] as usize);
         out[0] = [w(0), w(1), w(2)];
         if self.k == 4 {
             out[1] = [w(0), w(2), w(3)];

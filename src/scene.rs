@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use crate::backend::{Backend, CpuSelector, Pair, QueryMeshes, Selector};
+use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
 use crate::geom::contact::{contact_geometry, ContactGeometry};
 use crate::geom::P3;
@@ -106,6 +106,8 @@ struct Worker {
 /// of one mesh's self-colliding leaf pairs.
 enum Task {
     Pair(u32, u32),
+    /// A share of a big mesh pair's leaf pairs: (index in the shared pairs, range).
+    Share(usize, std::ops::Range<usize>),
     /// Mesh `list[i]`, its `n`-th self-colliding preparation, leaf pairs `range` of it.
     Own {
         i: u32,
@@ -263,6 +265,29 @@ impl Scene {
         Ok(())
     }
 
+    /// Places mesh `id` rigidly (or affinely): the world position of a vertex is `m * (x, y,
+    /// z, 1)` with `m` row-major 3x4, in `f64` (see [`crate::geom::affine`]); None is the
+    /// identity. Every query answers for the world positions. Costs a few operations per
+    /// leaf box; no vertex is touched. NonFinite (nothing changes) for a non-finite entry or
+    /// world positions that could leave the `f32` range; Unsupported for a mesh reading its
+    /// positions from a GL buffer.
+    pub fn set_transform(&mut self, id: MeshId, m: Option<&[f64; 12]>) -> Result<()> {
+        let bound = self.selector.gl_bound(id);
+        let mesh = self.mesh_mut(id)?;
+        if bound && m.is_some_and(|m| *m != crate::geom::affine::IDENTITY) {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} reads its positions from a GL buffer: it cannot be given a \
+                     transform (transform the buffer's positions instead)"
+                ),
+            ));
+        }
+        mesh.set_transform(m)?;
+        self.forget_query();
+        Ok(())
+    }
+
     /// GL_COMPUTE: mesh `id` reads its positions (xyz `f32`, `stride` bytes apart from
     /// `offset`, 0 = 12) from the host's buffer object `buffer` at each query.
     pub fn bind_gl_buffer(
@@ -273,6 +298,15 @@ impl Scene {
         stride: usize,
     ) -> Result<()> {
         let m = self.meshes.get(&id).ok_or_else(|| unknown(id))?;
+        if m.place.is_some() {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} has a transform: it cannot read its positions from a GL buffer \
+                     (set its transform to the identity first)"
+                ),
+            ));
+        }
         self.selector
             .bind_gl_buffer(id, m, buffer, offset, stride)?;
         self.forget_query();
@@ -317,26 +351,76 @@ impl Scene {
                     .map(|(&id, m)| (id, m)),
             );
         }
-        let q = QueryMeshes {
-            meshes,
-            half_depth: f64::from(self.config.epsilon) / 2.0,
-            symmetric: false,
-        };
+        let h = f64::from(self.config.epsilon) / 2.0;
+        // A GL backend holds the meshes in their own frames: pairs with a placed mesh are
+        // answered by the CPU engine (all of them when the reference is placed).
+        let mut on_cpu = Vec::new();
+        if self.selector.backend() != Backend::Cpu && meshes.iter().any(|(_, m)| m.place.is_some())
+        {
+            if r.place.is_some() {
+                on_cpu = std::mem::take(&mut meshes);
+            } else {
+                on_cpu.push(meshes[0]);
+                on_cpu.extend(meshes.iter().skip(1).filter(|(_, m)| m.place.is_some()));
+                meshes.retain(|(_, m)| m.place.is_none());
+            }
+            for &(id, _) in &on_cpu {
+                if self.selector.gl_bound(id) {
+                    self.workspace.stats.readbacks = self.selector.take_readbacks();
+                    return Err(gl_bound_and_placed(id, &on_cpu));
+                }
+            }
+        }
         // The answer goes to `scratch`, swapped in only on success: after a failed query
         // `contacts()` still holds the last successful query's.
-        let res = if q.meshes.len() > 1 {
-            query::run(
+        // The CPU backend's query is the scene's own CPU query (the workers share out its
+        // leaf pairs).
+        if self.selector.is_cpu_engine() {
+            on_cpu = std::mem::take(&mut meshes);
+        }
+        self.scratch.clear();
+        let mut res = Ok(());
+        if meshes.len() > 1 {
+            let q = QueryMeshes {
+                meshes,
+                half_depth: h,
+                symmetric: false,
+            };
+            res = query::run(
                 self.selector.as_mut(),
                 &q,
                 &mut self.workspace,
                 &mut self.scratch,
-            )
-        } else {
-            self.scratch.clear();
-            Ok(())
-        };
+            );
+        }
+        if res.is_ok() && on_cpu.len() > 1 {
+            let q = QueryMeshes {
+                meshes: on_cpu,
+                half_depth: h,
+                symmetric: false,
+            };
+            let share = self.threads > 1 && worth_sharing(&q);
+            if share {
+                res = start_pool(&mut self.pool, self.threads);
+            }
+            if res.is_ok() {
+                let pool = if share { self.pool.as_ref() } else { None };
+                let mut found = Vec::new();
+                let mut stats = QueryStats::default();
+                cpu_query(&self.workers, pool, &q, &mut found, &mut stats);
+                self.scratch.extend_from_slice(&found);
+                self.scratch.sort_unstable();
+                let total = &mut self.workspace.stats;
+                for k in 0..5 {
+                    total.tests[k] += stats.tests[k];
+                    total.hits[k] += stats.hits[k];
+                    total.nanos[k] += stats.nanos[k];
+                }
+            }
+        }
         if res.is_err() {
             self.workspace.stats = QueryStats::default();
+            self.scratch.clear();
         }
         self.workspace.stats.readbacks = self.selector.take_readbacks();
         res?;
@@ -365,20 +449,8 @@ impl Scene {
 
     /// Starts the worker threads if the scene wants them and they are not running yet.
     fn start_workers(&mut self) -> Result<()> {
-        if self.threads > 1 && self.pool.is_none() {
-            let threads = self.threads;
-            self.pool = Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .thread_name(|i| format!("glcollide-{i}"))
-                    .build()
-                    .map_err(|e| {
-                        Error::new(
-                            ErrorKind::OutOfMemory,
-                            format!("could not start {threads} worker threads: {e}"),
-                        )
-                    })?,
-            );
+        if self.threads > 1 {
+            start_pool(&mut self.pool, self.threads)?;
         }
         Ok(())
     }
@@ -410,9 +482,46 @@ impl Scene {
         };
         let t = Instant::now();
         let on_cpu = self.selector.backend() == Backend::Cpu;
+        // A GL backend holds the meshes in their own frames: pairs with a placed mesh go to
+        // the CPU engine.
+        let cpu_pair = |&(i, j): &(u32, u32)| {
+            on_cpu || list[i as usize].mesh.place.is_some() || list[j as usize].mesh.place.is_some()
+        };
+        for &(i, j) in mesh_pairs.iter().filter(|p| !on_cpu && cpu_pair(p)) {
+            for (a, b) in [(i, j), (j, i)] {
+                let id = list[a as usize].id;
+                if self.selector.gl_bound(id) {
+                    let other = &list[b as usize];
+                    return Err(gl_bound_and_placed(id, &[(other.id, other.mesh)]));
+                }
+            }
+        }
         let mut tasks: Vec<Task> = Vec::new();
-        if on_cpu {
-            tasks.extend(mesh_pairs.iter().map(|&(i, j)| Task::Pair(i, j)));
+        // A big mesh pair is shared out by its leaf pairs (steps 1 and 2 here, on the
+        // calling thread), like a big reference query; the others are one task each.
+        let mut shared: Vec<(u32, u32, LeafPairs)> = Vec::new();
+        let pair_query = |i: u32, j: u32| {
+            let (a, b) = (&list[i as usize], &list[j as usize]);
+            QueryMeshes {
+                meshes: vec![(a.id, a.mesh), (b.id, b.mesh)],
+                half_depth: h,
+                symmetric: true,
+            }
+        };
+        for &(i, j) in mesh_pairs.iter().filter(|p| cpu_pair(p)) {
+            let q = pair_query(i, j);
+            if self.threads > 1 && worth_sharing(&q) {
+                let mut lp = LeafPairs::default();
+                let mut stats = QueryStats::default();
+                lock(&self.workers[0])
+                    .cpu
+                    .leaf_pairs(&q, &mut lp, &mut stats);
+                let k = shared.len();
+                tasks.extend(shares(lp.pairs.len(), self.threads).map(|r| Task::Share(k, r)));
+                shared.push((i, j, lp));
+            } else {
+                tasks.push(Task::Pair(i, j));
+            }
         }
         let selfs: Vec<u32> = (0..list.len() as u32)
             .filter(|&i| list[i as usize].self_collision)
@@ -452,21 +561,25 @@ impl Scene {
             let mut out = Vec::new();
             match *t {
                 Task::Pair(i, j) => {
-                    let (a, b) = (&list[i as usize], &list[j as usize]);
-                    let q = QueryMeshes {
-                        meshes: vec![(a.id, a.mesh), (b.id, b.mesh)],
-                        half_depth: h,
-                        symmetric: true,
-                    };
+                    let q = pair_query(i, j);
                     let mut found = Vec::new();
                     // The CPU engine never fails.
                     if query::run(&mut w.cpu, &q, &mut w.workspace, &mut found).is_ok() {
-                        out.extend(found.iter().map(|c| pair(a.id, c)));
+                        out.extend(found.iter().map(|c| pair(list[i as usize].id, c)));
                     }
                     for k in 0..5 {
                         w.stats.pair_step_nanos[k] += w.workspace.stats.nanos[k];
                     }
                     w.stats.pair_found += found.len();
+                }
+                Task::Share(k, ref r) => {
+                    let (i, j, ref lp) = shared[k];
+                    let q = pair_query(i, j);
+                    let mut found = Vec::new();
+                    let mut stats = QueryStats::default();
+                    w.cpu.some_pairs(&q, lp, r.clone(), &mut found, &mut stats);
+                    w.stats.pair_found += found.len();
+                    out.extend(found.iter().map(|c| pair(list[i as usize].id, c)));
                 }
                 Task::Own { i, n, ref range } => {
                     let sm = &list[i as usize];
@@ -503,7 +616,7 @@ impl Scene {
             // A GL backend answers mesh pair by mesh pair, on the calling thread (its
             // context is current here); with a band, both ways round, as its viewing
             // volumes are the reference's only.
-            for &(i, j) in &mesh_pairs {
+            for &(i, j) in mesh_pairs.iter().filter(|p| !cpu_pair(p)) {
                 let (a, b) = (&list[i as usize], &list[j as usize]);
                 let mut ask = |r: &SceneMesh<'_>, o: &SceneMesh<'_>| -> Result<()> {
                     let q = QueryMeshes {
@@ -652,6 +765,110 @@ fn nanos_since(t: Instant) -> u64 {
     t.elapsed().as_nanos() as u64
 }
 
+/// Starts `threads` worker threads into `pool` unless they are running.
+fn start_pool(pool: &mut Option<rayon::ThreadPool>, threads: usize) -> Result<()> {
+    if pool.is_none() {
+        *pool = Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("glcollide-{i}"))
+                .build()
+                .map_err(|e| {
+                    Error::new(
+                        ErrorKind::OutOfMemory,
+                        format!("could not start {threads} worker threads: {e}"),
+                    )
+                })?,
+        );
+    }
+    Ok(())
+}
+
+/// Is the reference query `q` big enough to share out between workers: its reference
+/// mesh, and the other meshes whose roots meet its root, have [`SHARE_QUERY_ABOVE`]
+/// polygons or more?
+fn worth_sharing(q: &QueryMeshes<'_>) -> bool {
+    let r = q.meshes[0].1;
+    let root = r.root();
+    let near: usize = q.meshes[1..]
+        .iter()
+        .filter(|(_, m)| root.overlaps(&m.root(), q.half_depth))
+        .map(|(_, m)| m.polygon_count())
+        .sum();
+    near.min(r.polygon_count()) >= SHARE_QUERY_ABOVE
+}
+
+/// A reference query whose reference mesh, and whose other meshes near it, have fewer
+/// polygons than this runs on the calling thread (sharing it out would cost more than it
+/// saves).
+const SHARE_QUERY_ABOVE: usize = 2048;
+
+/// Leaf pairs per share of a reference query, at least: about eight shares per worker
+/// otherwise, so that the workers stay busy however unevenly the pairs cost.
+const LEAF_PAIRS_PER_SHARE: usize = 4;
+
+/// `n` leaf pairs in contiguous shares for `threads` workers: about eight shares per
+/// worker, at least [`LEAF_PAIRS_PER_SHARE`] pairs each.
+fn shares(n: usize, threads: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+    let share = n.div_ceil(8 * threads.max(1)).max(LEAF_PAIRS_PER_SHARE);
+    (0..n).step_by(share).map(move |a| a..(a + share).min(n))
+}
+
+/// The CPU engine's reference query `q` (its contacts sorted into `out`, the counts and
+/// times into `stats`), on worker 0 alone without a pool; with one, steps 1 and 2 on the
+/// calling thread, then steps 3 to 5 shared out by leaf pairs. The answer is the same
+/// either way (the union of disjoint leaf pairs' contacts, sorted); step times are summed
+/// over the workers.
+fn cpu_query(
+    workers: &[Mutex<Worker>],
+    pool: Option<&rayon::ThreadPool>,
+    q: &QueryMeshes<'_>,
+    out: &mut Vec<Contact>,
+    stats: &mut QueryStats,
+) {
+    out.clear();
+    *stats = QueryStats::default();
+    let Some(pool) = pool else {
+        let mut w = lock(&workers[0]);
+        let w = &mut *w;
+        // The CPU engine never fails.
+        if query::run(&mut w.cpu, q, &mut w.workspace, out).is_ok() {
+            *stats = w.workspace.stats;
+        }
+        return;
+    };
+    let mut lp = LeafPairs::default();
+    lock(&workers[0]).cpu.leaf_pairs(q, &mut lp, stats);
+    let n = lp.pairs.len();
+    if n == 0 {
+        return;
+    }
+    let ranges: Vec<std::ops::Range<usize>> = shares(n, pool.current_num_threads()).collect();
+    let found: Vec<(Vec<Contact>, QueryStats)> = pool.install(|| {
+        use rayon::prelude::*;
+        ranges
+            .par_iter()
+            .map(|r| {
+                let at = rayon::current_thread_index().unwrap_or(0) % workers.len();
+                let mut w = lock(&workers[at]);
+                let (mut c, mut st) = (Vec::new(), QueryStats::default());
+                w.cpu.some_pairs(q, &lp, r.clone(), &mut c, &mut st);
+                (c, st)
+            })
+            .collect()
+    });
+    for (c, st) in &found {
+        out.extend_from_slice(c);
+        for k in 2..5 {
+            stats.tests[k] += st.tests[k];
+            stats.hits[k] += st.hits[k];
+            stats.nanos[k] += st.nanos[k];
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+}
+
 /// A contact of `reference` as a whole-scene pair (`reference` has the lower id).
 fn pair(reference: MeshId, c: &Contact) -> Pair {
     Pair {
@@ -687,6 +904,25 @@ fn fresh_mesh_id() -> Option<MeshId> {
             (v < MeshId::MAX).then_some(v + 1)
         })
         .ok()
+}
+
+/// A query that needs the CPU for a placed mesh, with mesh `id` (of `meshes`) reading its
+/// positions from a GL buffer.
+fn gl_bound_and_placed(id: MeshId, meshes: &[(MeshId, &Mesh)]) -> Error {
+    let placed: Vec<String> = meshes
+        .iter()
+        .filter(|(_, m)| m.place.is_some())
+        .map(|(i, _)| i.to_string())
+        .collect();
+    Error::new(
+        ErrorKind::Unsupported,
+        format!(
+            "mesh {id} reads its positions from a GL buffer and would be collided with \
+             transformed mesh(es) {}, which the GL backends leave to the CPU: give those \
+             meshes the identity, or disable one side",
+            placed.join(", ")
+        ),
+    )
 }
 
 fn unknown(id: MeshId) -> Error {

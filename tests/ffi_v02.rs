@@ -601,3 +601,124 @@ fn geometry_errors() {
         assert_eq!(try_geometry(&s).0, S::InvalidArgument, "change {change}");
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Rigid placement (C API only).
+
+#[test]
+fn set_transform_places_a_mesh_and_refuses_bad_input_changing_nothing() {
+    let parts = overlapping_real_meshes();
+    let t = &parts[0];
+    // A quarter turn about z, doubled: world positions that are floats (checked), so a
+    // second scene can be given them as vertices.
+    let m: [f64; 12] = [0., -2., 0., 0., 2., 0., 0., 0., 0., 0., 2., 0.];
+    let world: Vec<[f32; 3]> = t
+        .pos
+        .iter()
+        .map(|p| {
+            let w = [
+                ((m[0] * p[0] as f64 + m[1] * p[1] as f64) + m[2] * p[2] as f64) + m[3],
+                ((m[4] * p[0] as f64 + m[5] * p[1] as f64) + m[6] * p[2] as f64) + m[7],
+                ((m[8] * p[0] as f64 + m[9] * p[1] as f64) + m[10] * p[2] as f64) + m[11],
+            ];
+            let f = w.map(|x| x as f32);
+            assert!((0..3).all(|k| f[k] as f64 == w[k]), "not floats: {w:?}");
+            f
+        })
+        .collect();
+    let other = &parts[0];
+    let mut s = scene_with(0.0, 0);
+    let a = s.add(other);
+    let b = s.add(t);
+    ok(
+        unsafe { glcol_mesh_set_transform(s.0, b, m.as_ptr()) },
+        "glcol_mesh_set_transform",
+    );
+    let mut given = scene_with(0.0, 0);
+    let a2 = given.add(other);
+    let b2 = given.add(&TestMesh {
+        pos: world.clone(),
+        ..t.clone()
+    });
+    let strip = |h: Vec<(u32, u32, u32)>, other: u32| -> Vec<(u32, u32)> {
+        h.into_iter()
+            .inspect(|h| assert_eq!(h.0, other))
+            .map(|h| (h.1, h.2))
+            .collect()
+    };
+    let want = strip(given.query(a2), b2);
+    assert!(!want.is_empty());
+    assert_eq!(strip(s.query(a), b), want);
+    let (st, g) = try_geometry(&s);
+    ok(st, "geometry");
+    assert!(!g.is_empty());
+    let before_query = s.query(a);
+    let before_all = all(&s);
+    let unchanged = |s: &mut FfiScene| {
+        assert_eq!(s.query(a), before_query);
+        assert_eq!(all(s), before_all);
+    };
+    // Bad input: a NaN or infinite entry, overflowing world positions, an unknown mesh, a
+    // NULL scene. Each is refused with a message and changes nothing.
+    for (i, bad) in [(0, f64::NAN), (7, f64::INFINITY), (11, f64::NEG_INFINITY)] {
+        let mut mm = m;
+        mm[i] = bad;
+        assert_eq!(
+            unsafe { glcol_mesh_set_transform(s.0, b, mm.as_ptr()) },
+            S::NonFinite
+        );
+        assert!(
+            last_error().contains(&format!("m[{i}]")),
+            "{}",
+            last_error()
+        );
+        unchanged(&mut s);
+    }
+    let mut huge = m;
+    huge[1] = -1e300;
+    assert_eq!(
+        unsafe { glcol_mesh_set_transform(s.0, b, huge.as_ptr()) },
+        S::NonFinite
+    );
+    assert!(last_error().contains("float range"), "{}", last_error());
+    unchanged(&mut s);
+    assert_eq!(
+        unsafe { glcol_mesh_set_transform(s.0, 0, m.as_ptr()) },
+        S::UnknownMesh
+    );
+    assert_eq!(
+        unsafe { glcol_mesh_set_transform(null_mut(), b, m.as_ptr()) },
+        S::NullPointer
+    );
+    unchanged(&mut s);
+    // An update whose world positions would overflow under m: refused, nothing changes.
+    let mut far = t.pos.clone();
+    far[3] = [0.0, 3e38, 0.0]; // twice that overflows
+    assert_eq!(
+        unsafe { glcol_mesh_update_positions(s.0, b, far.as_ptr().cast(), 0, far.len(), 0) },
+        S::NonFinite
+    );
+    assert_eq!(
+        unsafe { glcol_mesh_update_positions(s.0, b, far[3..].as_ptr().cast(), 3, 1, 0) },
+        S::NonFinite
+    );
+    unchanged(&mut s);
+    // A changed transform makes the last answer's geometry stale.
+    ok(
+        unsafe { glcol_mesh_set_transform(s.0, b, m.as_ptr()) },
+        "the same matrix",
+    );
+    assert_eq!(try_geometry(&s).0, S::InvalidArgument);
+    // NULL: the identity, the vertices as given.
+    ok(
+        unsafe { glcol_mesh_set_transform(s.0, b, std::ptr::null()) },
+        "NULL m",
+    );
+    let mut local = scene_with(0.0, 0);
+    let a3 = local.add(other);
+    let b3 = local.add(t);
+    let want_local = strip(local.query(a3), b3);
+    let got_local = strip(s.query(a), b);
+    assert_eq!(got_local, want_local);
+    assert_ne!(got_local, want);
+}

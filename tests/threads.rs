@@ -119,3 +119,165 @@ fn error_messages_stay_on_their_thread() {
         }
     });
 }
+
+/// Issue 12, item 5: `glcol_query` (the reference query), and `glcol_query_all` for a big
+/// mesh pair, share their leaf pairs out between the scene's workers; the answer (and every
+/// per-step count of the reference query) is the same for 1, 2 and one thread per core, on a real organ pair in deep contact (both deformed), at epsilon 0 and
+/// in a band, and with the second organ placed by a transform.
+#[test]
+fn the_reference_query_answers_the_same_for_every_thread_count() {
+    use glcollide::{Positions, Scene, SceneConfig};
+    let colon = TestMesh::from_obj(&shared_mesh("colon"));
+    let bowel = TestMesh::from_obj(&shared_mesh("small_intestine"));
+    let (lo, hi) = bounds(&colon.pos);
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f32, f32::max);
+    let a_pos = wave(&colon.pos, 0.004 * extent, 8.0 / extent, 0.3);
+    let b_pos = wave(&bowel.pos, -0.004 * extent, 8.0 / extent, 0.3);
+    // A quarter turn about z of the second organ's centre-free frame, back in place.
+    let m: [f64; 12] = [0., -1., 0., 0., 1., 0., 0., 0., 0., 0., 1., 0.];
+    let mut turned = b_pos.clone();
+    for p in &mut turned {
+        *p = [p[1], -p[0], p[2]];
+    }
+    for epsilon in [0.0, 1e-3 * extent] {
+        for placed in [false, true] {
+            let mut answers = Vec::new();
+            for threads in [1, 2, 0] {
+                let mut s = Scene::new(SceneConfig {
+                    epsilon,
+                    threads,
+                    ..SceneConfig::default()
+                })
+                .unwrap();
+                let a = s
+                    .create_mesh(Positions::from_points(&a_pos), &colon.idx, 3)
+                    .unwrap();
+                let b_local = if placed { &turned } else { &b_pos };
+                let b = s
+                    .create_mesh(Positions::from_points(b_local), &bowel.idx, 3)
+                    .unwrap();
+                if placed {
+                    s.set_transform(b, Some(&m)).unwrap();
+                }
+                // Mesh ids differ from scene to scene: the polygons only.
+                let polys = |c: &[glcollide::Contact]| -> Vec<(u32, u32)> {
+                    c.iter()
+                        .map(|c| (c.reference_polygon, c.other_polygon))
+                        .collect()
+                };
+                let qa = polys(s.query(a).unwrap());
+                let sa = s.stats();
+                let qb = polys(s.query(b).unwrap());
+                let sb = s.stats();
+                assert!(!qa.is_empty() && !qb.is_empty());
+                // The whole-scene query shares the big pair out the same way.
+                let all: Vec<(bool, u32, bool, u32)> = s
+                    .query_all()
+                    .unwrap()
+                    .iter()
+                    .map(|p| (p.mesh_a == a, p.polygon_a, p.mesh_b == a, p.polygon_b))
+                    .collect();
+                assert!(all.len() >= qa.len());
+                answers.push((qa, qb, sa.tests, sa.hits, sb.tests, sb.hits, all));
+            }
+            for w in answers.windows(2) {
+                assert!(
+                    w[0].0 == w[1].0,
+                    "epsilon {epsilon}, placed {placed}: contacts of a"
+                );
+                assert!(
+                    w[0].1 == w[1].1,
+                    "epsilon {epsilon}, placed {placed}: contacts of b"
+                );
+                assert!(
+                    w[0].6 == w[1].6,
+                    "epsilon {epsilon}, placed {placed}: query_all"
+                );
+                assert_eq!(
+                    (w[0].2, w[0].3, w[0].4, w[0].5),
+                    (w[1].2, w[1].3, w[1].4, w[1].5),
+                    "epsilon {epsilon}, placed {placed}: per-step counts"
+                );
+            }
+        }
+    }
+}
+
+/// The reference query's wall time on 1 and 2 threads, heavy case (colon vs small
+/// intestine, both deformed anew every frame). Prints a table, asserts nothing about time:
+/// `cargo test --release --test threads -- --ignored --nocapture reference_query_speed`
+#[test]
+#[ignore]
+fn reference_query_speed() {
+    use glcollide::{Positions, Scene, SceneConfig};
+    use std::time::Instant;
+    let colon = TestMesh::from_obj(&shared_mesh("colon"));
+    let bowel = TestMesh::from_obj(&shared_mesh("small_intestine"));
+    let (lo, hi) = bounds(&colon.pos);
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f32, f32::max);
+    type Frame = (Vec<[f32; 3]>, Vec<[f32; 3]>);
+    let frames: Vec<Frame> = (0..8)
+        .map(|f| {
+            let t = f as f32 * 0.1;
+            (
+                wave(&colon.pos, 0.004 * extent, 8.0 / extent, t),
+                wave(&bowel.pos, -0.004 * extent, 8.0 / extent, t),
+            )
+        })
+        .collect();
+    // CPU time of the whole process (all threads), in clock ticks, from /proc: sampled by
+    // the kernel, so summed over many queries it estimates the CPU the queries used.
+    let cpu_ticks = || -> u64 {
+        let s = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+        let rest = s.rsplit(')').next().unwrap_or("");
+        let f: Vec<&str> = rest.split_whitespace().collect();
+        f.get(11).and_then(|u| u.parse::<u64>().ok()).unwrap_or(0)
+            + f.get(12).and_then(|u| u.parse::<u64>().ok()).unwrap_or(0)
+    };
+    println!(
+        "| threads | epsilon | contacts | query median µs | query min µs | CPU µs per query (all threads) |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|");
+    for epsilon in [0.0, 1e-3 * extent] {
+        for round in 0..3 {
+            for threads in [1, 2] {
+                let mut s = Scene::new(SceneConfig {
+                    epsilon,
+                    threads,
+                    ..SceneConfig::default()
+                })
+                .unwrap();
+                let a = s
+                    .create_mesh(Positions::from_points(&frames[0].0), &colon.idx, 3)
+                    .unwrap();
+                let b = s
+                    .create_mesh(Positions::from_points(&frames[0].1), &bowel.idx, 3)
+                    .unwrap();
+                let mut times = Vec::new();
+                let (mut n, mut ticks) = (0, 0);
+                let queries = 400;
+                for i in 0..queries {
+                    let (fa, fb) = &frames[i % frames.len()];
+                    s.update_positions(a, 0, Positions::from_points(fa))
+                        .unwrap();
+                    s.update_positions(b, 0, Positions::from_points(fb))
+                        .unwrap();
+                    let c0 = cpu_ticks();
+                    let t = Instant::now();
+                    n = s.query(a).unwrap().len();
+                    times.push(t.elapsed().as_secs_f64() * 1e6);
+                    ticks += cpu_ticks() - c0;
+                }
+                times.sort_by(f64::total_cmp);
+                // Clock ticks are 10 ms on Linux (USER_HZ = 100).
+                let cpu = ticks as f64 * 1e4 / queries as f64;
+                println!(
+                    "| {threads} | {epsilon} | {n} | {:.0} | {:.0} | {cpu:.0} |{}",
+                    times[times.len() / 2],
+                    times[0],
+                    if round == 0 { " (warm-up round)" } else { "" }
+                );
+            }
+        }
+    }
+}

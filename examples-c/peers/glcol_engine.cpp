@@ -50,6 +50,7 @@ struct GlcolImpl : GlcolEngine {
         d.backend = GlcolBackend(backend);
         d.epsilon = eps;
         d.max_polygons_per_box = leaf; // 0: the library's rule of thumb
+        d.threads = 1; // one thread, like every peer here (glcol_query shares out otherwise)
         if (backend != GLCOL_BACKEND_CPU) {
             if (!get_proc) throw std::runtime_error("no GL context");
             d.get_proc_address = get_proc;

@@ -19,7 +19,7 @@ pub(crate) mod cpu;
 mod gl_compute;
 mod gl_select;
 
-pub use cpu::CpuSelector;
+pub use cpu::{CpuSelector, LeafPairs};
 pub use gl_compute::GlComputeSelector;
 pub use gl_select::GlSelectSelector;
 
@@ -63,7 +63,8 @@ pub struct QueryStats {
     /// Hits returned, steps 1 to 5.
     pub hits: [usize; 5],
     /// Time the backend took for each step, nanoseconds (a backend that runs the whole
-    /// query at once may report all of it under step 1).
+    /// query at once may report all of it under step 1; a query shared out between worker
+    /// threads reports the sum over the workers).
     pub nanos: [u64; 5],
     /// GL read-backs (buffer reads or maps that wait for the GPU) the query made.
     pub readbacks: u32,
@@ -214,9 +215,9 @@ impl QueryMeshes<'_> {
     pub fn boxed(&self, p: Prim) -> crate::geom::Aabb {
         let m = self.mesh(p);
         if p.index == ROOT {
-            m.leaves.root
+            m.root()
         } else {
-            m.leaves.boxes[p.index as usize]
+            m.leaf_boxes()[p.index as usize]
         }
     }
 }
@@ -268,6 +269,12 @@ pub trait Selector: Send {
     /// written back here).
     fn prepare(&mut self, _meshes: &mut BTreeMap<u32, Mesh>) -> Result<()> {
         Ok(())
+    }
+
+    /// Is this the CPU engine itself ([`CpuSelector`])? Then the scene may answer its
+    /// reference queries with its workers' own CPU engines (the same answer, shared out).
+    fn is_cpu_engine(&self) -> bool {
+        false
     }
 
     /// GL read-backs (reads that wait for the GL) since the last call.

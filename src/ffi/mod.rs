@@ -541,13 +541,15 @@ pub unsafe extern "C" fn glcol_mesh_create(
 /// each, `position_stride` bytes apart, 0 = packed) and refits the mesh's boxes. Rejected
 /// whole on any error (the mesh keeps its previous positions): UNKNOWN_MESH, NULL_POINTER,
 /// INVALID_ARGUMENT (zero count, range past the end, stride, alignment, overflow; a
-/// partial update of a mesh bound to a GL buffer), NON_FINITE. A mesh bound with
-/// `glcol_mesh_bind_gl_buffer` takes only a full update (first_vertex 0, all its
-/// vertices): it unbinds the buffer, and from then on the mesh's positions are exactly the
-/// ones given (the buffer is no longer read). A partial one is refused, since the CPU holds
-/// no current positions for the other vertices. Makes no GL call. The range is checked against the mesh before the array is read; an array
-/// shorter than `vertex_count` vertices `position_stride` apart cannot be detected
-/// (undefined behaviour).
+/// partial update of a mesh bound to a GL buffer), NON_FINITE (also: positions whose world
+/// positions under the mesh's `glcol_mesh_set_transform` matrix could overflow the float
+/// range). A mesh bound with `glcol_mesh_bind_gl_buffer` takes only a full update
+/// (first_vertex 0, all its vertices): it unbinds the buffer, and from then on the mesh's
+/// positions are exactly the ones given (the buffer is no longer read). A partial one is
+/// refused, since the CPU holds no current positions for the other vertices. Makes no GL
+/// call. The range is checked against the mesh before the array is read; an array shorter
+/// than `vertex_count` vertices `position_stride` apart cannot be detected (undefined
+/// behaviour).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
@@ -734,6 +736,49 @@ pub unsafe extern "C" fn glcol_mesh_set_filter(
     })
 }
 
+/// Places `mesh` rigidly (or affinely): `m` is a row-major 3x4 matrix and a vertex's world
+/// position is `m * (x, y, z, 1)`, each coordinate evaluated in double precision as
+/// `m[r*4+0]*x + m[r*4+1]*y + m[r*4+2]*z + m[r*4+3]` in that order, without fused
+/// multiply-add. Every query (`glcol_query`, `glcol_query_all`, `glcol_query_geometry`, all
+/// backends) answers for those double world positions, exact at epsilon 0: the same answer
+/// as for the same world positions given as vertices. Positions given by
+/// `glcol_mesh_create` and `glcol_mesh_update_positions` stay in the mesh's own frame.
+/// NULL `m` (or the identity matrix): back to the identity, the default. Cost: a few
+/// operations per leaf box (about one box per 450 polygons), no vertex is read or written,
+/// so moving an instrument costs far less than updating its vertices. The mesh's boxes
+/// follow the matrix conservatively (a rotated mesh's boxes are looser, which costs
+/// culling, never an answer). The GL backends answer the pairs that involve a transformed
+/// mesh with the CPU engine (a query that would collide a transformed mesh with a mesh
+/// bound to a GL buffer answers UNSUPPORTED). Statuses: NULL_POINTER (scene),
+/// UNKNOWN_MESH; NON_FINITE when an entry is NaN or infinite, or when world positions
+/// could overflow the float range (|m| times the largest local coordinates plus
+/// |translation| above FLT_MAX, judged from the mesh's bounding box;
+/// `glcol_mesh_update_positions` then refuses positions that would overflow under the
+/// mesh's matrix); UNSUPPORTED for a mesh bound to a GL buffer (`glcol_mesh_bind_gl_buffer`).
+/// On failure nothing changes.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `m` is NULL or points at 12 readable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_set_transform(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    m: *const f64,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        let m = if m.is_null() {
+            None
+        } else {
+            // SAFETY: the caller's contract: non-null `m` points at 12 readable doubles
+            // (read unaligned: a caller's `double[12]` is aligned, this costs nothing).
+            Some(unsafe { m.cast::<[f64; 12]>().read_unaligned() })
+        };
+        Ok(s.scene.set_transform(mesh, m.as_ref())?)
+    })
+}
+
 /// Every pair of polygons that meet, in one call (the meaning of `glcol_query`: exact at
 /// epsilon 0, the viewing-volume band at epsilon > 0), from two different enabled meshes
 /// whose filters pass, or from one enabled mesh whose self-collision is on. Each pair
@@ -797,9 +842,10 @@ fn to_f32(x: f64) -> f32 {
 /// Geometry of the pairs of the scene's last successful `glcol_query` or
 /// `glcol_query_all`, in the same order: entry i describes contact (or pair) i; polygon a
 /// is the reference polygon (or polygon_a), b the other. Computed at this call (a query not
-/// followed by it costs nothing more), in double precision from the float positions in a
-/// frame local to the pair, each value then rounded to the nearest float (normals stay
-/// unit within that rounding; no NaN, no infinity). On success `*out_geometry` points at
+/// followed by it costs nothing more), in double precision from the world positions (the
+/// float positions, or their `glcol_mesh_set_transform` images) in a frame local to the
+/// pair, each value then rounded to the nearest float (normals stay unit within that
+/// rounding; no NaN, no infinity). On success `*out_geometry` points at
 /// `*out_count` entries (NULL when 0), owned by the scene like the pairs (valid until the
 /// next non-const call); the contacts or pairs arrays stay valid.
 /// Rules (exact decisions, as the query's):

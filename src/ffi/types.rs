@@ -100,9 +100,11 @@ pub struct GlcolSceneDesc {
     /// above).
     pub max_polygons_per_box: u32,
     /// Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
-    /// use, 1 = the calling thread only. The answer is identical for every count; workers
-    /// start once per scene and sleep between queries. A 0.1 struct (struct_size without
-    /// this field) gets 0.
+    /// use, 1 = the calling thread only. `glcol_query_all` shares out its mesh pairs and
+    /// self-collision leaf pairs, `glcol_query` its leaf pairs (when the reference and the
+    /// meshes near it have 2048 polygons or more). The answer is identical for every count;
+    /// workers start once per scene (at its first query that needs them) and sleep between
+    /// queries. A 0.1 struct (struct_size without this field) gets 0.
     pub threads: u32,
 }
 

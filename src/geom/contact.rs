@@ -3,7 +3,8 @@
 //!
 //! A polygon is one triangle or a quad given as its two triangles `(v0,v1,v2)`, `(v0,v2,v3)`
 //! (as `Mesh::triangles` fills them), in `f64` coordinates that are `f32` values widened (so
-//! exact). The decisions (do they intersect, are they coplanar) are the exact predicates
+//! exact), or the `f64` world positions of a placed mesh (within the `f32` range; there the
+//! differences below round once more, within the accuracy stated). The decisions (do they intersect, are they coplanar) are the exact predicates
 //! the query uses. The constructions are `f64` and use only differences of the pair's own
 //! vertices (exact for `f32` input; the general path subtracts the first vertex of `a`
 //! first, a frame local to the pair), so a pair far from the world origin is computed as

@@ -1,6 +1,7 @@
 //! Geometry: boxes, exact predicates, the exact triangle test and viewing volumes.
 
 pub mod adjacent;
+pub mod affine;
 pub mod contact;
 pub mod polygon;
 pub mod predicates;
@@ -10,8 +11,10 @@ pub mod volume;
 
 pub use predicates::P3;
 
-/// An axis-aligned box in `f32`, as the vertices are stored. Built only by `min`/`max` over
-/// vertex coordinates, so it is exact: no rounding, no padding needed.
+/// An axis-aligned box in `f32`, as the vertices are stored. Built by `min`/`max` over
+/// vertex coordinates, so it is exact: no rounding, no padding needed; or, for a placed
+/// mesh ([`affine`]), holding `f64` world positions with its bounds rounded outward (a
+/// conservative box: culling only).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
     /// Lower corner.

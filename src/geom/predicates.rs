@@ -1,7 +1,10 @@
 //! Exact orientation predicates (Shewchuk's adaptive arithmetic, through the `robust` crate).
 //!
-//! Every coordinate the library sees is an `f32` widened to `f64`, which is exact, so these
-//! signs are the true signs of the determinants for the input geometry.
+//! Every coordinate the library sees is an `f32` widened to `f64` (exact), or the `f64` world
+//! position of a placed mesh ([`super::affine`]), whose magnitude stays within the `f32`
+//! range. The adaptive predicates are exact for any such doubles (their expansions neither
+//! overflow nor, short of matrices that scale coordinates below about 1e-80, underflow), so
+//! these signs are the true signs of the determinants for the geometry queried.
 
 use robust::{Coord, Coord3D};
 

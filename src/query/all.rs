@@ -126,10 +126,10 @@ impl SelfPrep {
     pub fn make(&mut self, m: &Mesh, h: f64) {
         self.grown_leaves.clear();
         self.grown_leaves
-            .extend(m.leaves.boxes.iter().map(|b| b.grown(h)));
+            .extend(m.leaf_boxes().iter().map(|b| b.grown(h)));
         self.found.clear();
         self.sweep
-            .pairs(&self.grown_leaves, &m.leaves.boxes, &mut self.found);
+            .pairs(&self.grown_leaves, m.leaf_boxes(), &mut self.found);
         self.leaf_pairs.clear();
         self.leaf_pairs
             .extend(self.found.iter().copied().filter(|&(i, j)| i <= j));

@@ -234,6 +234,12 @@ pub fn triangle_distance(t: &[P; 3], u: &[P; 3]) -> f64 {
     if triangles_meet(t, u) {
         return 0.0;
     }
+    apart_distance(t, u)
+}
+
+/// Distance between two closed triangles known not to meet (vertex-face and edge-edge
+/// closest points), in f64; the coordinates need not be floats.
+pub fn apart_distance(t: &[P; 3], u: &[P; 3]) -> f64 {
     let mut d = f64::INFINITY;
     for i in 0..3 {
         d = d.min(dist(&t[i], &closest_on_triangle(&t[i], u)));

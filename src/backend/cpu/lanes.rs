@@ -45,8 +45,14 @@ impl Lanes {
     }
 
     /// Boxes `range` become those of `m`'s leaf-ordered polygons `range`
-    /// ([`Mesh::poly_box`], in one pass).
+    /// ([`Mesh::poly_box`], in one pass; one by one under a placement).
     pub fn fit_polygons(&mut self, m: &Mesh, range: std::ops::Range<usize>) {
+        if m.place.is_some() {
+            for p in range {
+                self.set(p, &m.poly_box(p));
+            }
+            return;
+        }
         let corners = &m.polys[range.start * m.k..range.end * m.k];
         if m.k == 3 {
             self.fit::<3>(corners, &m.slots, range.start);

@@ -24,13 +24,15 @@ use crate::gpu::state::{StateGuard, Uses};
 use crate::gpu::{Gl, HostBuffer, HostCheck};
 use crate::mesh::{Mesh, Positions};
 use lanes::Lanes;
+pub use steps::LeafPairs;
 
 /// Polygon boxes of one mesh, computed a whole leaf at a time on first use and valid while
-/// the mesh's positions do not change (its generation).
+/// the mesh's positions and placement do not change (its generation and pose).
 #[derive(Default)]
 struct BoxCache {
     id: u32,
     generation: u64,
+    pose: u64,
     /// `leaf_stamp[l] == current` marks the boxes of all of leaf `l`'s polygons valid.
     leaf_stamp: Vec<u32>,
     current: u32,
@@ -49,11 +51,12 @@ impl BoxCache {
             self.leaf_stamp.resize(m.leaf_count(), 0);
             self.boxes.resize(n);
             self.current = 1;
-        } else if self.generation != m.generation {
+        } else if self.generation != m.generation || self.pose != m.pose {
             self.current += 1;
         }
         self.id = id;
         self.generation = m.generation;
+        self.pose = m.pose;
     }
 
     /// Makes the boxes of leaf `l`'s polygons valid; returns their range in `boxes`.
@@ -129,6 +132,50 @@ impl CpuSelector {
             self.caches[i].revalidate(id, m);
             self.slot_cache.push(i);
         }
+    }
+}
+
+impl CpuSelector {
+    /// Steps 1 and 2 of the query `q`: its leaf pairs into `lp`, the counts and times of
+    /// those steps into `stats` (the rest zeroed).
+    pub fn leaf_pairs(&mut self, q: &QueryMeshes<'_>, lp: &mut LeafPairs, stats: &mut QueryStats) {
+        *stats = QueryStats::default();
+        self.sync_caches(q);
+        let mut run = steps::Run {
+            q,
+            h: q.half_depth,
+            s: &mut self.scratch,
+            caches: &mut self.caches,
+            slot_cache: &self.slot_cache,
+            stats,
+        };
+        run.leaf_pairs(lp);
+    }
+
+    /// Steps 3 to 5 of the query `q` on the leaf pairs `lp.pairs[range]` (from
+    /// [`CpuSelector::leaf_pairs`] of the same query, on any selector): their contacts
+    /// appended to `out` (each once, any order), the counts and times of steps 3 to 5 into
+    /// `stats` (the rest zeroed, but for step 2's hits: the pairs taken). The contacts of
+    /// disjoint ranges covering all pairs are the query's.
+    pub fn some_pairs(
+        &mut self,
+        q: &QueryMeshes<'_>,
+        lp: &LeafPairs,
+        range: std::ops::Range<usize>,
+        out: &mut Vec<Contact>,
+        stats: &mut QueryStats,
+    ) {
+        *stats = QueryStats::default();
+        self.sync_caches(q);
+        let mut run = steps::Run {
+            q,
+            h: q.half_depth,
+            s: &mut self.scratch,
+            caches: &mut self.caches,
+            slot_cache: &self.slot_cache,
+            stats,
+        };
+        run.some_pairs(lp, range, out);
     }
 }
 
@@ -231,6 +278,10 @@ impl Selector for CpuSelector {
         if let Some(h) = self.host.as_deref_mut() {
             h.gl.release_sentinel();
         }
+    }
+
+    fn is_cpu_engine(&self) -> bool {
+        true
     }
 
     fn mesh_destroyed(&mut self, id: u32) {

@@ -96,6 +96,18 @@ pub(super) struct Run<'a, 'q> {
     pub stats: &'a mut QueryStats,
 }
 
+/// The leaf pairs of a query (steps 1 and 2), to be shared out: steps 3 to 5 of any subset
+/// of `pairs` give that subset's contacts ([`Run::some_pairs`]).
+#[derive(Clone, Debug, Default)]
+pub struct LeafPairs {
+    /// (query mesh, leaf) of the other meshes' leaves that meet the reference root.
+    pub others: Vec<(u32, u32)>,
+    /// Their boxes grown by `h`.
+    pub grown: Vec<Aabb>,
+    /// (position in `others`, reference leaf), sorted.
+    pub pairs: Vec<(u32, u32)>,
+}
+
 impl Run<'_, '_> {
     /// The five steps for `q.meshes[0]` against the others: contacts appended to `out`
     /// (each pair once, in no particular order), counts and times in `stats`.
@@ -103,6 +115,40 @@ impl Run<'_, '_> {
         let _ = self.timed(0, Run::step1)
             && self.timed(1, Run::step2)
             && self.timed(2, Run::step3)
+            && self.timed(3, Run::step4)
+            && self.timed(4, |r| r.step5(out));
+    }
+
+    /// Steps 1 and 2 only: the leaf pairs into `lp` (counts and times of steps 1 and 2 in
+    /// `stats`).
+    pub fn leaf_pairs(&mut self, lp: &mut LeafPairs) {
+        lp.others.clear();
+        lp.grown.clear();
+        lp.pairs.clear();
+        if self.timed(0, Run::step1) && self.timed(1, Run::step2) {
+            lp.others.extend_from_slice(&self.s.others);
+            lp.grown.extend_from_slice(&self.s.grown);
+            lp.pairs.extend_from_slice(&self.s.pairs);
+        }
+    }
+
+    /// Steps 3 to 5 on the leaf pairs `lp.pairs[range]`: their contacts appended to `out`
+    /// (counts and times of steps 3 to 5 in `stats`).
+    pub fn some_pairs(
+        &mut self,
+        lp: &LeafPairs,
+        range: std::ops::Range<usize>,
+        out: &mut Vec<Contact>,
+    ) {
+        let s = &mut *self.s;
+        s.others.clear();
+        s.others.extend_from_slice(&lp.others);
+        s.grown.clear();
+        s.grown.extend_from_slice(&lp.grown);
+        s.pairs.clear();
+        s.pairs.extend_from_slice(&lp.pairs[range]);
+        self.stats.hits[1] = s.pairs.len();
+        let _ = self.timed(2, Run::step3)
             && self.timed(3, Run::step4)
             && self.timed(4, |r| r.step5(out));
     }
@@ -125,8 +171,7 @@ impl Run<'_, '_> {
             if reference.root().overlaps(&m.root(), h) {
                 self.stats.tests[0] += m.leaf_count();
                 s.others.extend(
-                    m.leaves
-                        .boxes
+                    m.leaf_boxes()
                         .iter()
                         .enumerate()
                         .filter(|(_, b)| root.meets(b))
@@ -146,12 +191,12 @@ impl Run<'_, '_> {
         s.grown.extend(
             s.others
                 .iter()
-                .map(|&(mi, l)| q.meshes[mi as usize].1.leaves.boxes[l as usize].grown(h)),
+                .map(|&(mi, l)| q.meshes[mi as usize].1.leaf_boxes()[l as usize].grown(h)),
         );
         self.stats.tests[1] = s.others.len() * reference.leaf_count();
         s.pairs.clear();
         s.sweep
-            .pairs(&s.grown, &reference.leaves.boxes, &mut s.pairs);
+            .pairs(&s.grown, reference.leaf_boxes(), &mut s.pairs);
         s.pairs.sort_unstable();
         self.stats.hits[1] = s.pairs.len();
         !s.pairs.is_empty()
@@ -186,7 +231,7 @@ impl Run<'_, '_> {
         s.other_polys.clear();
         for &(o, r) in &s.pairs {
             let (mi, l) = s.others[o as usize];
-            let vol = reference.leaves.boxes[r as usize].grown(h);
+            let vol = reference.leaf_boxes()[r as usize].grown(h);
             let oc = &mut self.caches[self.slot_cache[mi as usize]];
             let polys = oc.leaf(q.meshes[mi as usize].1, l as usize);
             self.stats.tests[3] += polys.len();
