@@ -36,6 +36,10 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#ifdef WITH_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -179,6 +183,101 @@ double cgal_epick(const Mesh &m, PairSet &out) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// CGAL's adjacency rule (do_faces_intersect of CGAL 5.5, see the top of this file) on two
+// faces of `m` given by index, with Epick's exact predicates: the narrow phase of the
+// Embree peer below.
+bool faces_meet(const Mesh &m, uint32_t f, uint32_t g) {
+    using P = Ki::Point_3;
+    auto pt = [&](uint32_t v) { return P(double(m.xyz[3 * v]), double(m.xyz[3 * v + 1]), double(m.xyz[3 * v + 2])); };
+    const uint32_t *a = &m.tri[3 * f], *b = &m.tri[3 * g];
+    int shared = 0, ia = -1, ib = -1;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (a[i] == b[j]) shared++, ia = i, ib = j;
+    Ki::Triangle_3 ta(pt(a[0]), pt(a[1]), pt(a[2])), tb(pt(b[0]), pt(b[1]), pt(b[2]));
+    if (shared == 0) return CGAL::do_intersect(ta, tb);
+    if (shared == 1) {
+        Ki::Segment_3 sa(pt(a[(ia + 1) % 3]), pt(a[(ia + 2) % 3])), sb(pt(b[(ib + 1) % 3]), pt(b[(ib + 2) % 3]));
+        return CGAL::do_intersect(ta, sb) || CGAL::do_intersect(tb, sa);
+    }
+    if (shared == 2) {
+        // The third vertices; coplanar and on the same side of the edge: overlap.
+        uint32_t wa = 0, wb = 0, e0 = 0, e1 = 0;
+        int n = 0;
+        for (int i = 0; i < 3; i++) {
+            bool in_b = a[i] == b[0] || a[i] == b[1] || a[i] == b[2];
+            if (!in_b) wa = a[i];
+            else (n++ ? e1 : e0) = a[i];
+        }
+        for (int j = 0; j < 3; j++)
+            if (b[j] != e0 && b[j] != e1) wb = b[j];
+        return CGAL::coplanar(pt(e0), pt(e1), pt(wa), pt(wb)) &&
+               CGAL::coplanar_orientation(pt(e0), pt(e1), pt(wa), pt(wb)) == CGAL::POSITIVE;
+    }
+    return false;
+}
+
+#ifdef WITH_EMBREE
+// Embree 3 rtcCollide of a scene with itself (its cloth tutorial's way to self-collide):
+// one user geometry (REFIT quality, LOW-quality scene, bounds rounded outward to float),
+// candidates with primID0 < primID1, then faces_meet. Median seconds of 3 queries (commit
+// + collide + narrow phase) after a first; the pairs in `out`.
+struct EmbreeGeo {
+    const Mesh *m;
+};
+void embree_bounds(const RTCBoundsFunctionArguments *args) {
+    const Mesh &m = *static_cast<const EmbreeGeo *>(args->geometryUserPtr)->m;
+    const uint32_t *t = &m.tri[3 * args->primID];
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = std::min({m.xyz[3 * t[0] + k], m.xyz[3 * t[1] + k], m.xyz[3 * t[2] + k]});
+        hi[k] = std::max({m.xyz[3 * t[0] + k], m.xyz[3 * t[1] + k], m.xyz[3 * t[2] + k]});
+    }
+    RTCBounds *b = args->bounds_o;
+    b->lower_x = lo[0], b->lower_y = lo[1], b->lower_z = lo[2];
+    b->upper_x = hi[0], b->upper_y = hi[1], b->upper_z = hi[2];
+}
+struct EmbreeRun {
+    const Mesh *m;
+    std::vector<std::pair<uint32_t, uint32_t>> cand;
+};
+void embree_cb(void *user, RTCCollision *c, unsigned n) {
+    auto *r = static_cast<EmbreeRun *>(user);
+    for (unsigned i = 0; i < n; i++)
+        if (c[i].primID0 < c[i].primID1) r->cand.push_back({c[i].primID0, c[i].primID1});
+}
+double embree_self(const Mesh &m, PairSet &out) {
+    RTCDevice dev = rtcNewDevice("threads=1");
+    RTCScene sc = rtcNewScene(dev);
+    rtcSetSceneBuildQuality(sc, RTC_BUILD_QUALITY_LOW);
+    RTCGeometry geo = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
+    EmbreeGeo g{&m};
+    rtcSetGeometryUserPrimitiveCount(geo, unsigned(m.triangles()));
+    rtcSetGeometryUserData(geo, &g);
+    rtcSetGeometryBoundsFunction(geo, embree_bounds, nullptr);
+    rtcSetGeometryBuildQuality(geo, RTC_BUILD_QUALITY_REFIT);
+    rtcCommitGeometry(geo);
+    rtcAttachGeometry(sc, geo);
+    std::vector<double> t;
+    for (int i = 0; i < 4; i++) {
+        auto t0 = std::chrono::steady_clock::now();
+        rtcCommitGeometry(geo);
+        rtcCommitScene(sc);
+        EmbreeRun r{&m, {}};
+        rtcCollide(sc, sc, embree_cb, &r);
+        out.clear();
+        for (auto &p : r.cand)
+            if (faces_meet(m, p.first, p.second)) out.insert(p);
+        if (i) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    rtcReleaseGeometry(geo);
+    rtcReleaseScene(sc);
+    rtcReleaseDevice(dev);
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+#endif
+
 // CGAL's self-intersecting face pairs of `m`, and its degenerate faces. False (with a
 // message) when the mesh is not manifold.
 bool cgal_self(const Mesh &m, PairSet &out, std::set<uint32_t> &degenerate) {
@@ -288,6 +387,15 @@ bool check(const Mesh &m, bool inject, Totals &tot) {
         std::fprintf(stderr, "%s: CGAL Epick %zu pairs, Epeck %zu\n", m.name.c_str(), epick.size(), want.size());
     }
     double glcol_s = glcol_seconds(m);
+#ifdef WITH_EMBREE
+    PairSet emb;
+    double emb_s = embree_self(m, emb);
+    PairSet emb_kept;
+    for (auto &p : emb)
+        if (keep(p)) emb_kept.insert(p);
+    std::printf("    Embree rtcCollide self + CGAL rule: %.4f s, %s\n", emb_s,
+                emb_kept == want_kept ? "equal to CGAL" : "DIFFERENT from CGAL (peer finding, not a failure)");
+#endif
     std::printf("%-44s %7zu triangles %6zu pairs (%5zu adjacent) %s%s  s: CGAL Epeck %.4f Epick %.4f, "
                 "glcollide %.4f\n",
                 m.name.c_str(), m.triangles(), want_kept.size(), adjacent, good ? "equal" : "DIFFERENT",
