@@ -3,7 +3,9 @@
 // real simulation frames and adversarial folds. Uses only glcollide's C header.
 //
 //   cargo build --release && make -C examples-c/selfcheck && examples-c/selfcheck/build/selfcheck
-//   selfcheck [--meshes DIR] [--inject] [--only NAME]
+//   selfcheck [--meshes DIR] [--inject] [--only NAME] [--time]
+// --time also times CGAL with Epick (and checks it gives Epeck's set), glcollide alone
+// (one thread, median of 3 queries) and, built with `make EMBREE=1`, Embree's rtcCollide.
 //
 // CGAL's notion of adjacency (CGAL 5.5, self_intersections.h, do_faces_intersect) and
 // API.md's ("polygons sharing a vertex index are reported only when they meet beyond what
@@ -183,6 +185,7 @@ double cgal_epick(const Mesh &m, PairSet &out) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+#ifdef WITH_EMBREE
 // CGAL's adjacency rule (do_faces_intersect of CGAL 5.5, see the top of this file) on two
 // faces of `m` given by index, with Epick's exact predicates: the narrow phase of the
 // Embree peer below.
@@ -217,7 +220,6 @@ bool faces_meet(const Mesh &m, uint32_t f, uint32_t g) {
     return false;
 }
 
-#ifdef WITH_EMBREE
 // Embree 3 rtcCollide of a scene with itself (its cloth tutorial's way to self-collide):
 // one user geometry (REFIT quality, LOW-quality scene, bounds rounded outward to float),
 // candidates with primID0 < primID1, then faces_meet. Median seconds of 3 queries (commit
@@ -326,7 +328,7 @@ struct Totals {
 };
 
 // Compares glcollide with CGAL on `m`; prints one line. False on any difference.
-bool check(const Mesh &m, bool inject, Totals &tot) {
+bool check(const Mesh &m, bool inject, bool timed, Totals &tot) {
     auto t0 = std::chrono::steady_clock::now();
     PairSet want;
     std::set<uint32_t> degenerate;
@@ -378,29 +380,33 @@ bool check(const Mesh &m, bool inject, Totals &tot) {
         }
     }
     excluded = std::max(excluded, want.size() - want_kept.size());
-    // Epick must agree with Epeck (where no face is degenerate: CGAL's triangle tests
-    // assume proper triangles).
-    PairSet epick;
-    double epick_s = cgal_epick(m, epick);
-    if (degenerate.empty() && epick != want) {
-        good = false;
-        std::fprintf(stderr, "%s: CGAL Epick %zu pairs, Epeck %zu\n", m.name.c_str(), epick.size(), want.size());
-    }
-    double glcol_s = glcol_seconds(m);
+    char timing[256] = "";
+    if (timed) {
+        // Epick must agree with Epeck (where no face is degenerate: CGAL's triangle tests
+        // assume proper triangles).
+        PairSet epick;
+        double epick_s = cgal_epick(m, epick);
+        if (degenerate.empty() && epick != want) {
+            good = false;
+            std::fprintf(stderr, "%s: CGAL Epick %zu pairs, Epeck %zu\n", m.name.c_str(), epick.size(), want.size());
+        }
+        double glcol_s = glcol_seconds(m);
+        std::snprintf(timing, sizeof timing, "  s: CGAL Epeck %.4f Epick %.4f, glcollide %.4f", cgal_s, epick_s,
+                      glcol_s);
 #ifdef WITH_EMBREE
-    PairSet emb;
-    double emb_s = embree_self(m, emb);
-    PairSet emb_kept;
-    for (auto &p : emb)
-        if (keep(p)) emb_kept.insert(p);
-    std::printf("    Embree rtcCollide self + CGAL rule: %.4f s, %s\n", emb_s,
-                emb_kept == want_kept ? "equal to CGAL" : "DIFFERENT from CGAL (peer finding, not a failure)");
+        PairSet emb;
+        double emb_s = embree_self(m, emb);
+        PairSet emb_kept;
+        for (auto &p : emb)
+            if (keep(p)) emb_kept.insert(p);
+        std::printf("    Embree rtcCollide self + CGAL rule: %.4f s, %s\n", emb_s,
+                    emb_kept == want_kept ? "equal to CGAL" : "DIFFERENT from CGAL (peer finding, not a failure)");
 #endif
-    std::printf("%-44s %7zu triangles %6zu pairs (%5zu adjacent) %s%s  s: CGAL Epeck %.4f Epick %.4f, "
-                "glcollide %.4f\n",
-                m.name.c_str(), m.triangles(), want_kept.size(), adjacent, good ? "equal" : "DIFFERENT",
+    }
+    std::printf("%-44s %7zu triangles %6zu pairs (%5zu adjacent) %s%s%s\n", m.name.c_str(), m.triangles(),
+                want_kept.size(), adjacent, good ? "equal" : "DIFFERENT",
                 degenerate.empty() ? "" : (" (" + std::to_string(degenerate.size()) + " degenerate faces left out)").c_str(),
-                cgal_s, epick_s, glcol_s);
+                timing);
     tot.pairs += want_kept.size();
     tot.adjacent += adjacent;
     tot.excluded += excluded;
@@ -534,7 +540,7 @@ std::vector<Mesh> adversarial() {
 int main(int argc, char **argv) {
     std::string dir = "../shared/meshes";
     std::string only;
-    bool inject = false;
+    bool inject = false, timed = false;
     for (int i = 1; i < argc; i++) {
         if (!std::strcmp(argv[i], "--meshes") && i + 1 < argc) {
             dir = argv[++i];
@@ -542,8 +548,10 @@ int main(int argc, char **argv) {
             only = argv[++i];
         } else if (!std::strcmp(argv[i], "--inject")) {
             inject = true;
+        } else if (!std::strcmp(argv[i], "--time")) {
+            timed = true;
         } else {
-            std::fprintf(stderr, "usage: %s [--meshes DIR] [--only NAME] [--inject]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--meshes DIR] [--only NAME] [--inject] [--time]\n", argv[0]);
             return 2;
         }
     }
@@ -590,7 +598,7 @@ int main(int argc, char **argv) {
     for (Mesh &m : adversarial())
         if (only.empty() || m.name.find(only) != std::string::npos) cases.push_back(std::move(m));
     Totals tot;
-    for (const Mesh &m : cases) check(m, inject, tot);
+    for (const Mesh &m : cases) check(m, inject, timed, tot);
     std::printf("selfcheck: %d meshes, %zu self pairs (%zu adjacent), %zu pairs with a degenerate face left "
                 "out; %d different\n",
                 tot.cases, tot.pairs, tot.adjacent, tot.excluded, tot.failed);
