@@ -215,7 +215,10 @@ fn main() {
     if keep("spheres") {
         // SPHERES=10,100,5000: the body counts of the spheres scene (time vs body count).
         let counts: Vec<usize> = match var("SPHERES") {
-            Some(v) => v.split(',').map(|n| n.parse().expect("SPHERES: numbers")).collect(),
+            Some(v) => v
+                .split(',')
+                .map(|n| n.parse().expect("SPHERES: numbers"))
+                .collect(),
             None => vec![1000],
         };
         cases.extend(counts.into_iter().map(spheres_case));
