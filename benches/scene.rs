@@ -10,7 +10,8 @@
 //! spheres, exact, threads 1 and 2), printed and written as CSV for bench/scaling_plot.py:
 //!   cargo bench --bench scene -- scaling bench-results/scaling.csv
 //! Environment: `SCENE=substring` keeps the scenes whose name contains it, `EPS=0` or
-//! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count.
+//! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count,
+//! `SPHERES=10,100,1000` the body counts of the spheres scene (default 1000).
 
 use std::time::Instant;
 
@@ -242,7 +243,15 @@ fn main() {
         .map(|&(n, f)| sim_case(n, f))
         .collect();
     if keep("spheres") {
-        cases.push(spheres_case(1000));
+        // SPHERES=10,100,5000: the body counts of the spheres scene (time vs body count).
+        let counts: Vec<usize> = match var("SPHERES") {
+            Some(v) => v
+                .split(',')
+                .map(|n| n.parse().expect("SPHERES: numbers"))
+                .collect(),
+            None => vec![1000],
+        };
+        cases.extend(counts.into_iter().map(spheres_case));
     }
     println!("{frames} frames per row, median; every mesh self-colliding; CPU backend\n");
     println!(

@@ -3,7 +3,9 @@
 // real simulation frames and adversarial folds. Uses only glcollide's C header.
 //
 //   cargo build --release && make -C examples-c/selfcheck && examples-c/selfcheck/build/selfcheck
-//   selfcheck [--meshes DIR] [--inject] [--only NAME]
+//   selfcheck [--meshes DIR] [--inject] [--only NAME] [--time]
+// --time also times CGAL with Epick (and checks it gives Epeck's set), glcollide alone
+// (one thread, median of 3 queries) and, built with `make EMBREE=1`, Embree's rtcCollide.
 //
 // CGAL's notion of adjacency (CGAL 5.5, self_intersections.h, do_faces_intersect) and
 // API.md's ("polygons sharing a vertex index are reported only when they meet beyond what
@@ -32,8 +34,13 @@
 #include <glcollide.h>
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+
+#ifdef WITH_EMBREE
+#include <embree3/rtcore.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -51,6 +58,10 @@ namespace {
 using K = CGAL::Exact_predicates_exact_constructions_kernel;
 using Point = K::Point_3;
 using SM = CGAL::Surface_mesh<Point>;
+// Exact predicates, inexact constructions: the kernel most users would pick (the test uses
+// predicates only, so it is exact too); timed beside Epeck and checked to give the same set.
+using Ki = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SMi = CGAL::Surface_mesh<Ki::Point_3>;
 using PairSet = std::set<std::pair<uint32_t, uint32_t>>;
 
 struct Mesh {
@@ -120,6 +131,155 @@ bool glcol_self(const Mesh &m, uint32_t threads, uint32_t per_box, bool decoy_fi
     return good;
 }
 
+// Median seconds of glcol_query_all on `m` alone, self-colliding, one thread, epsilon 0
+// (3 queries after a first one; the positions re-sent before each, as a simulator does).
+double glcol_seconds(const Mesh &m) {
+    GlcolSceneDesc sd;
+    glcol_scene_desc_init(&sd);
+    sd.backend = GLCOL_BACKEND_CPU;
+    sd.threads = 1;
+    GlcolScene *scene = nullptr;
+    if (!ok(glcol_scene_create(&sd, &scene), "glcol_scene_create")) return -1;
+    GlcolMeshDesc md;
+    glcol_mesh_desc_init(&md);
+    md.positions = m.xyz.data();
+    md.vertex_count = m.vertices();
+    md.indices = m.tri.data();
+    md.polygon_count = m.triangles();
+    md.vertices_per_polygon = 3;
+    GlcolMeshId id = 0;
+    std::vector<double> t;
+    if (ok(glcol_mesh_create(scene, &md, &id), "glcol_mesh_create") &&
+        ok(glcol_mesh_set_self_collision(scene, id, true), "glcol_mesh_set_self_collision")) {
+        for (int i = 0; i < 4; i++) {
+            auto t0 = std::chrono::steady_clock::now();
+            const GlcolPair *pairs = nullptr;
+            size_t n = 0;
+            if (!ok(glcol_mesh_update_positions(scene, id, m.xyz.data(), 0, m.vertices(), 0), "update") ||
+                !ok(glcol_query_all(scene, &pairs, &n), "glcol_query_all"))
+                break;
+            if (i) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+    }
+    glcol_scene_destroy(scene);
+    if (t.empty()) return -1;
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+// CGAL (Epick) self-intersecting pairs of a manifold `m`, and the seconds it took.
+double cgal_epick(const Mesh &m, PairSet &out) {
+    auto t0 = std::chrono::steady_clock::now();
+    SMi sm;
+    std::vector<SMi::Vertex_index> v;
+    v.reserve(m.vertices());
+    for (size_t i = 0; i < m.vertices(); i++)
+        v.push_back(sm.add_vertex(Ki::Point_3(double(m.xyz[3 * i]), double(m.xyz[3 * i + 1]), double(m.xyz[3 * i + 2]))));
+    for (size_t f = 0; f < m.triangles(); f++) sm.add_face(v[m.tri[3 * f]], v[m.tri[3 * f + 1]], v[m.tri[3 * f + 2]]);
+    std::vector<std::pair<SMi::Face_index, SMi::Face_index>> found;
+    CGAL::Polygon_mesh_processing::self_intersections(sm, std::back_inserter(found));
+    for (auto &p : found) {
+        uint32_t a = uint32_t(p.first.idx()), b = uint32_t(p.second.idx());
+        out.insert({std::min(a, b), std::max(a, b)});
+    }
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+#ifdef WITH_EMBREE
+// CGAL's adjacency rule (do_faces_intersect of CGAL 5.5, see the top of this file) on two
+// faces of `m` given by index, with Epick's exact predicates: the narrow phase of the
+// Embree peer below.
+bool faces_meet(const Mesh &m, uint32_t f, uint32_t g) {
+    using P = Ki::Point_3;
+    auto pt = [&](uint32_t v) { return P(double(m.xyz[3 * v]), double(m.xyz[3 * v + 1]), double(m.xyz[3 * v + 2])); };
+    const uint32_t *a = &m.tri[3 * f], *b = &m.tri[3 * g];
+    int shared = 0, ia = -1, ib = -1;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            if (a[i] == b[j]) shared++, ia = i, ib = j;
+    Ki::Triangle_3 ta(pt(a[0]), pt(a[1]), pt(a[2])), tb(pt(b[0]), pt(b[1]), pt(b[2]));
+    if (shared == 0) return CGAL::do_intersect(ta, tb);
+    if (shared == 1) {
+        Ki::Segment_3 sa(pt(a[(ia + 1) % 3]), pt(a[(ia + 2) % 3])), sb(pt(b[(ib + 1) % 3]), pt(b[(ib + 2) % 3]));
+        return CGAL::do_intersect(ta, sb) || CGAL::do_intersect(tb, sa);
+    }
+    if (shared == 2) {
+        // The third vertices; coplanar and on the same side of the edge: overlap.
+        uint32_t wa = 0, wb = 0, e0 = 0, e1 = 0;
+        int n = 0;
+        for (int i = 0; i < 3; i++) {
+            bool in_b = a[i] == b[0] || a[i] == b[1] || a[i] == b[2];
+            if (!in_b) wa = a[i];
+            else (n++ ? e1 : e0) = a[i];
+        }
+        for (int j = 0; j < 3; j++)
+            if (b[j] != e0 && b[j] != e1) wb = b[j];
+        return CGAL::coplanar(pt(e0), pt(e1), pt(wa), pt(wb)) &&
+               CGAL::coplanar_orientation(pt(e0), pt(e1), pt(wa), pt(wb)) == CGAL::POSITIVE;
+    }
+    return false;
+}
+
+// Embree 3 rtcCollide of a scene with itself (its cloth tutorial's way to self-collide):
+// one user geometry (REFIT quality, LOW-quality scene, bounds rounded outward to float),
+// candidates with primID0 < primID1, then faces_meet. Median seconds of 3 queries (commit
+// + collide + narrow phase) after a first; the pairs in `out`.
+struct EmbreeGeo {
+    const Mesh *m;
+};
+void embree_bounds(const RTCBoundsFunctionArguments *args) {
+    const Mesh &m = *static_cast<const EmbreeGeo *>(args->geometryUserPtr)->m;
+    const uint32_t *t = &m.tri[3 * args->primID];
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = std::min({m.xyz[3 * t[0] + k], m.xyz[3 * t[1] + k], m.xyz[3 * t[2] + k]});
+        hi[k] = std::max({m.xyz[3 * t[0] + k], m.xyz[3 * t[1] + k], m.xyz[3 * t[2] + k]});
+    }
+    RTCBounds *b = args->bounds_o;
+    b->lower_x = lo[0], b->lower_y = lo[1], b->lower_z = lo[2];
+    b->upper_x = hi[0], b->upper_y = hi[1], b->upper_z = hi[2];
+}
+struct EmbreeRun {
+    const Mesh *m;
+    std::vector<std::pair<uint32_t, uint32_t>> cand;
+};
+void embree_cb(void *user, RTCCollision *c, unsigned n) {
+    auto *r = static_cast<EmbreeRun *>(user);
+    for (unsigned i = 0; i < n; i++)
+        if (c[i].primID0 < c[i].primID1) r->cand.push_back({c[i].primID0, c[i].primID1});
+}
+double embree_self(const Mesh &m, PairSet &out) {
+    RTCDevice dev = rtcNewDevice("threads=1");
+    RTCScene sc = rtcNewScene(dev);
+    rtcSetSceneBuildQuality(sc, RTC_BUILD_QUALITY_LOW);
+    RTCGeometry geo = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
+    EmbreeGeo g{&m};
+    rtcSetGeometryUserPrimitiveCount(geo, unsigned(m.triangles()));
+    rtcSetGeometryUserData(geo, &g);
+    rtcSetGeometryBoundsFunction(geo, embree_bounds, nullptr);
+    rtcSetGeometryBuildQuality(geo, RTC_BUILD_QUALITY_REFIT);
+    rtcCommitGeometry(geo);
+    rtcAttachGeometry(sc, geo);
+    std::vector<double> t;
+    for (int i = 0; i < 4; i++) {
+        auto t0 = std::chrono::steady_clock::now();
+        rtcCommitGeometry(geo);
+        rtcCommitScene(sc);
+        EmbreeRun r{&m, {}};
+        rtcCollide(sc, sc, embree_cb, &r);
+        out.clear();
+        for (auto &p : r.cand)
+            if (faces_meet(m, p.first, p.second)) out.insert(p);
+        if (i) t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    rtcReleaseGeometry(geo);
+    rtcReleaseScene(sc);
+    rtcReleaseDevice(dev);
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+#endif
+
 // CGAL's self-intersecting face pairs of `m`, and its degenerate faces. False (with a
 // message) when the mesh is not manifold.
 bool cgal_self(const Mesh &m, PairSet &out, std::set<uint32_t> &degenerate) {
@@ -168,7 +328,7 @@ struct Totals {
 };
 
 // Compares glcollide with CGAL on `m`; prints one line. False on any difference.
-bool check(const Mesh &m, bool inject, Totals &tot) {
+bool check(const Mesh &m, bool inject, bool timed, Totals &tot) {
     auto t0 = std::chrono::steady_clock::now();
     PairSet want;
     std::set<uint32_t> degenerate;
@@ -220,10 +380,33 @@ bool check(const Mesh &m, bool inject, Totals &tot) {
         }
     }
     excluded = std::max(excluded, want.size() - want_kept.size());
-    std::printf("%-44s %7zu triangles %6zu pairs (%5zu adjacent) %s%s  CGAL %.2f s\n", m.name.c_str(),
-                m.triangles(), want_kept.size(), adjacent, good ? "equal" : "DIFFERENT",
+    char timing[256] = "";
+    if (timed) {
+        // Epick must agree with Epeck (where no face is degenerate: CGAL's triangle tests
+        // assume proper triangles).
+        PairSet epick;
+        double epick_s = cgal_epick(m, epick);
+        if (degenerate.empty() && epick != want) {
+            good = false;
+            std::fprintf(stderr, "%s: CGAL Epick %zu pairs, Epeck %zu\n", m.name.c_str(), epick.size(), want.size());
+        }
+        double glcol_s = glcol_seconds(m);
+        std::snprintf(timing, sizeof timing, "  s: CGAL Epeck %.4f Epick %.4f, glcollide %.4f", cgal_s, epick_s,
+                      glcol_s);
+#ifdef WITH_EMBREE
+        PairSet emb;
+        double emb_s = embree_self(m, emb);
+        PairSet emb_kept;
+        for (auto &p : emb)
+            if (keep(p)) emb_kept.insert(p);
+        std::printf("    Embree rtcCollide self + CGAL rule: %.4f s, %s\n", emb_s,
+                    emb_kept == want_kept ? "equal to CGAL" : "DIFFERENT from CGAL (peer finding, not a failure)");
+#endif
+    }
+    std::printf("%-44s %7zu triangles %6zu pairs (%5zu adjacent) %s%s%s\n", m.name.c_str(), m.triangles(),
+                want_kept.size(), adjacent, good ? "equal" : "DIFFERENT",
                 degenerate.empty() ? "" : (" (" + std::to_string(degenerate.size()) + " degenerate faces left out)").c_str(),
-                cgal_s);
+                timing);
     tot.pairs += want_kept.size();
     tot.adjacent += adjacent;
     tot.excluded += excluded;
@@ -357,7 +540,7 @@ std::vector<Mesh> adversarial() {
 int main(int argc, char **argv) {
     std::string dir = "../shared/meshes";
     std::string only;
-    bool inject = false;
+    bool inject = false, timed = false;
     for (int i = 1; i < argc; i++) {
         if (!std::strcmp(argv[i], "--meshes") && i + 1 < argc) {
             dir = argv[++i];
@@ -365,8 +548,10 @@ int main(int argc, char **argv) {
             only = argv[++i];
         } else if (!std::strcmp(argv[i], "--inject")) {
             inject = true;
+        } else if (!std::strcmp(argv[i], "--time")) {
+            timed = true;
         } else {
-            std::fprintf(stderr, "usage: %s [--meshes DIR] [--only NAME] [--inject]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--meshes DIR] [--only NAME] [--inject] [--time]\n", argv[0]);
             return 2;
         }
     }
@@ -413,7 +598,7 @@ int main(int argc, char **argv) {
     for (Mesh &m : adversarial())
         if (only.empty() || m.name.find(only) != std::string::npos) cases.push_back(std::move(m));
     Totals tot;
-    for (const Mesh &m : cases) check(m, inject, tot);
+    for (const Mesh &m : cases) check(m, inject, timed, tot);
     std::printf("selfcheck: %d meshes, %zu self pairs (%zu adjacent), %zu pairs with a degenerate face left "
                 "out; %d different\n",
                 tot.cases, tot.pairs, tot.adjacent, tot.excluded, tot.failed);

@@ -142,6 +142,17 @@ pub fn adjacent_polygons_meet(
 ///   orientation is affine and vanishes at `s` only, so the first triangle meets that
 ///   plane at `s` alone, and `a ∩ b ⊆ {s}`.
 ///
+/// When those fail (neighbours in one plane, or nearly), the same conclusions from a
+/// projection onto the coordinate plane across `a`'s largest normal component, if both
+/// triangles project to proper triangles there (exact `orient2d`; the projection is then
+/// one-to-one on each triangle), whether or not they are in one plane:
+///
+/// * shared edge, the third vertices strictly on either side of its projected line: the
+///   projections meet on that line only, whose preimage in each triangle is the edge;
+/// * shared vertex `s`, the projected sectors at `s` (convex, below π) sharing no ray
+///   (no boundary ray of one in the other's closed sector): the projections meet at `s`'s
+///   image only, whose preimage in each triangle is `s`.
+///
 /// A triangle with a repeated index, or two triangles with all three indices in common,
 /// get `false`.
 #[inline]
@@ -154,7 +165,9 @@ pub fn triangles_touch_only_at_joint(
     let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
     touch_only_at_joint(
         ai,
+        a,
         bi,
+        b,
         |k| sign(orient3d(&a[0], &a[1], &a[2], &b[k])),
         |k| sign(orient3d(&b[0], &b[1], &b[2], &a[k])),
     )
@@ -162,8 +175,9 @@ pub fn triangles_touch_only_at_joint(
 
 /// [`triangles_touch_only_at_joint`] with the triangles' planes made beforehand
 /// ([`Plane::of`]): each orientation is read from the plane when its floating-point value
-/// is certain of the sign ([`Plane::side`]), from the exact `orient3d` otherwise. The same
-/// answer, mostly without an exact predicate.
+/// is certain of the sign ([`Plane::side`]) and taken as unknown otherwise (no exact
+/// `orient3d`, which is slow exactly where points are coplanar: the projected rules decide
+/// those). `true` only where [`triangles_touch_only_at_joint`] is `true`.
 #[inline]
 pub fn triangles_touch_only_at_joint_planes(
     ai: &[u32; 3],
@@ -173,20 +187,18 @@ pub fn triangles_touch_only_at_joint_planes(
     b: &[P3; 3],
     pb: &Plane,
 ) -> bool {
-    let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
-    let side = |pl: &Plane, t: &[P3; 3], x: &P3| match pl.side(x) {
-        0 => sign(orient3d(&t[0], &t[1], &t[2], x)),
-        s => s,
-    };
-    touch_only_at_joint(ai, bi, |k| side(pa, a, &b[k]), |k| side(pb, b, &a[k]))
+    touch_only_at_joint(ai, a, bi, b, |k| pa.side(&b[k]), |k| pb.side(&a[k]))
 }
 
 /// The rule of [`triangles_touch_only_at_joint`], given the signs `ob(k)` of `orient3d` of
-/// `b`'s vertex `k` against `a`'s plane and `oa(k)` of `a`'s vertex `k` against `b`'s.
+/// `b`'s vertex `k` against `a`'s plane and `oa(k)` of `a`'s vertex `k` against `b`'s (0:
+/// zero or unknown; a nonzero sign must be the true one).
 #[inline(always)]
 fn touch_only_at_joint(
     ai: &[u32; 3],
+    a: &[P3; 3],
     bi: &[u32; 3],
+    b: &[P3; 3],
     ob: impl Fn(usize) -> i8,
     oa: impl Fn(usize) -> i8,
 ) -> bool {
@@ -207,10 +219,52 @@ fn touch_only_at_joint(
         }
         o
     };
+    // The projection of the projected rules: across `a`'s largest normal component, where
+    // both triangles must project to proper triangles.
+    let projected = || -> Option<usize> {
+        let e = [a[1][0] - a[0][0], a[1][1] - a[0][1], a[1][2] - a[0][2]];
+        let f = [a[2][0] - a[0][0], a[2][1] - a[0][1], a[2][2] - a[0][2]];
+        let n = [
+            (e[1] * f[2] - e[2] * f[1]).abs(),
+            (e[2] * f[0] - e[0] * f[2]).abs(),
+            (e[0] * f[1] - e[1] * f[0]).abs(),
+        ];
+        let axis = if n[0] >= n[1] && n[0] >= n[2] {
+            0
+        } else if n[1] >= n[2] {
+            1
+        } else {
+            2
+        };
+        let proper = |t: &[P3; 3]| {
+            orient2d(
+                drop_axis(&t[0], axis),
+                drop_axis(&t[1], axis),
+                drop_axis(&t[2], axis),
+            ) != 0.0
+        };
+        (proper(a) && proper(b)).then_some(axis)
+    };
     match shared {
         2 => {
-            let w = (0..3).find(|&k| !ai.contains(&bi[k]));
-            w.is_some_and(|w| ob(w) != 0)
+            let Some(w) = (0..3).find(|&k| !ai.contains(&bi[k])) else {
+                return false;
+            };
+            if ob(w) != 0 {
+                return true;
+            }
+            let Some(axis) = projected() else {
+                return false;
+            };
+            // `a`'s vertex off the shared edge, and the edge's ends.
+            let Some(v) = (0..3).find(|&k| !bi.contains(&ai[k])) else {
+                return false;
+            };
+            let (i, j) = ((v + 1) % 3, (v + 2) % 3);
+            let p = |x: &P3| drop_axis(x, axis);
+            let sv = orient2d(p(&a[i]), p(&a[j]), p(&a[v]));
+            let sw = orient2d(p(&a[i]), p(&a[j]), p(&b[w]));
+            (sv > 0.0 && sw < 0.0) || (sv < 0.0 && sw > 0.0)
         }
         1 => {
             let [c, d] = others(bi, ai);
@@ -218,9 +272,30 @@ fn touch_only_at_joint(
             if s != 0 && ob(d) == s {
                 return true;
             }
-            let [c, d] = others(ai, bi);
-            let s = oa(c);
-            s != 0 && oa(d) == s
+            let [e, f] = others(ai, bi);
+            let s = oa(e);
+            if s != 0 && oa(f) == s {
+                return true;
+            }
+            let Some(axis) = projected() else {
+                return false;
+            };
+            let p = |x: &P3| drop_axis(x, axis);
+            let apex = p(&a[3 - e - f]);
+            // The sectors' rays, counterclockwise (both triangles are proper there).
+            let ccw = |x: [f64; 2], y: [f64; 2]| {
+                if orient2d(apex, x, y) > 0.0 {
+                    [x, y]
+                } else {
+                    [y, x]
+                }
+            };
+            let sa = ccw(p(&a[e]), p(&a[f]));
+            let sb = ccw(p(&b[c]), p(&b[d]));
+            let inside = |r: [f64; 2], s: &[[f64; 2]; 2]| {
+                orient2d(apex, s[0], r) >= 0.0 && orient2d(apex, r, s[1]) >= 0.0
+            };
+            !(inside(sb[0], &sa) || inside(sb[1], &sa) || inside(sa[0], &sb) || inside(sa[1], &sb))
         }
         _ => false,
     }
@@ -1533,7 +1608,7 @@ mod tests {
                 let (pa, pb) = (Plane::of(&ap), Plane::of(&bp));
                 let planes = triangles_touch_only_at_joint_planes(&ai, &ap, &pa, &bi, &bp, &pb);
                 let exact = triangles_touch_only_at_joint(&ai, &ap, &bi, &bp);
-                if planes != exact && self.bad.len() < 5 {
+                if planes && !exact && self.bad.len() < 5 {
                     self.bad
                         .push(format!("quick test: planes {planes}, exact {exact}: {c:?}"));
                 }

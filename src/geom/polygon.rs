@@ -52,6 +52,15 @@ impl Prepared {
         ]
     }
 
+    /// Is polygon `c` certainly farther than `h` from this one (`cells` this polygon's
+    /// viewing volumes of half depth `h`, [`Cell::far_from`] for every triangle pair)? Then
+    /// `c` meets neither this polygon nor its volumes, and this polygon meets none of
+    /// `c`'s volumes of half depth `h`: [`Prepared::meets`] is false both ways round.
+    #[inline]
+    pub fn far_apart(&self, cells: &[Cell; 2], c: &Prepared, h: f64) -> bool {
+        (0..self.poly.n).all(|a| (0..c.poly.n).all(|b| cells[a].far_from(&c.poly.tris[b], h)))
+    }
+
     /// Step 5's test of a box-overlapping pair: candidate `c` survives clipping against the
     /// viewing volumes `cells` of `self` (`h > 0`), or the closed polygons intersect (exact
     /// predicates, after a conservative plane rejection).
@@ -87,4 +96,68 @@ pub fn polygon_meets(
     let (v, c) = (Prepared::of(*v_tris, nv), Prepared::of(*c_tris, nc));
     let cells = (h > 0.0).then(|| v.cells(h));
     v.meets(&c, cells.as_ref())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `far_apart` only where `meets` is false both ways round (and no corners are within
+    /// `h`), on random triangles and quads near each other, degenerate ones included.
+    #[test]
+    fn far_apart_only_when_neither_meets() {
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut far, mut cases) = (0, 0);
+        for i in 0..20_000 {
+            let mut poly = |n: usize| {
+                let o = [rnd() * 2.0, rnd() * 2.0, rnd() * 0.5];
+                let mut t = [[o; 3]; 2];
+                for tri in t.iter_mut() {
+                    for p in tri.iter_mut().skip(1) {
+                        *p = [o[0] + rnd() - 0.5, o[1] + rnd() - 0.5, o[2] + rnd() * 0.2];
+                    }
+                }
+                // Every 16th polygon a segment (degenerate).
+                if i % 16 == 0 {
+                    t[0][2] = t[0][1];
+                }
+                t[1][1] = t[0][2];
+                Prepared::of(t, n)
+            };
+            let (a, b) = (poly(1 + i % 2), poly(1 + i / 2 % 2));
+            let h = 0.01 + rnd() * 0.3;
+            let (ca, cb) = (a.cells(h), b.cells(h));
+            cases += 1;
+            if a.far_apart(&ca, &b, h) {
+                far += 1;
+                assert!(
+                    !a.meets(&b, Some(&ca)) && !b.meets(&a, Some(&cb)),
+                    "case {i}"
+                );
+                // A consequence that shares nothing with the test: no corner of b within
+                // h of a corner of a.
+                for tb in &b.poly.tris[..b.poly.n] {
+                    for p in tb {
+                        for ta in &a.poly.tris[..a.poly.n] {
+                            let near = ta.iter().any(|q| {
+                                let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+                                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= h
+                            });
+                            assert!(!near, "case {i}: a corner within h of a corner");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            far > cases / 10 && far < cases - cases / 10,
+            "{far} of {cases} far apart"
+        );
+    }
 }

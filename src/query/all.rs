@@ -411,10 +411,13 @@ pub fn self_pairs(
             a.meets(b, None)
         } else {
             fill_cells(a, p, h, stamp, &mut s.cells);
-            a.meets(b, s.cells[p].1.as_ref()) || {
+            // Farther than `h` apart: neither meets the other's volumes (saves making
+            // `b`'s and clipping both ways).
+            let far = s.cells[p].1.as_ref().is_some_and(|c| a.far_apart(c, b, h));
+            !far && (a.meets(b, s.cells[p].1.as_ref()) || {
                 fill_cells(b, q, h, stamp, &mut s.cells);
                 b.meets(a, s.cells[q].1.as_ref())
-            }
+            })
         };
         if meets {
             push(p as u32, q as u32);

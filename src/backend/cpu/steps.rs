@@ -333,6 +333,11 @@ impl Run<'_, '_> {
             let pv = s.vprep[v as usize].get(stamp, reference, rp);
             let pc = s.cprep[c as usize].get(stamp, m, op);
             let cells = (h > 0.0).then(|| &*s.cells[v as usize].get_or_insert_with(|| pv.cells(h)));
+            // Farther than `h` apart: no meeting either way round (no clipping, and no
+            // volume made for the other polygon).
+            if cells.is_some_and(|c| pv.far_apart(c, pc, h)) {
+                continue;
+            }
             let meets = pv.meets(pc, cells)
                 || symmetric
                     && pc.meets(
