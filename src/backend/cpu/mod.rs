@@ -136,19 +136,28 @@ impl CpuSelector {
 }
 
 impl CpuSelector {
-    /// Steps 1 and 2 of the query `q`: its leaf pairs into `lp`, the counts and times of
-    /// those steps into `stats` (the rest zeroed).
-    pub fn leaf_pairs(&mut self, q: &QueryMeshes<'_>, lp: &mut LeafPairs, stats: &mut QueryStats) {
-        *stats = QueryStats::default();
+    /// A run of the query `q` over this selector's caches (synchronised with `q` first).
+    fn start<'a, 'q>(
+        &'a mut self,
+        q: &'a QueryMeshes<'q>,
+        stats: &'a mut QueryStats,
+    ) -> steps::Run<'a, 'q> {
         self.sync_caches(q);
-        let mut run = steps::Run {
+        steps::Run {
             q,
             h: q.half_depth,
             s: &mut self.scratch,
             caches: &mut self.caches,
             slot_cache: &self.slot_cache,
             stats,
-        };
+        }
+    }
+
+    /// Steps 1 and 2 of the query `q`: its leaf pairs into `lp`, the counts and times of
+    /// those steps into `stats` (the rest zeroed).
+    pub fn leaf_pairs(&mut self, q: &QueryMeshes<'_>, lp: &mut LeafPairs, stats: &mut QueryStats) {
+        *stats = QueryStats::default();
+        let mut run = self.start(q, stats);
         run.leaf_pairs(lp);
     }
 
@@ -166,15 +175,7 @@ impl CpuSelector {
         stats: &mut QueryStats,
     ) {
         *stats = QueryStats::default();
-        self.sync_caches(q);
-        let mut run = steps::Run {
-            q,
-            h: q.half_depth,
-            s: &mut self.scratch,
-            caches: &mut self.caches,
-            slot_cache: &self.slot_cache,
-            stats,
-        };
+        let mut run = self.start(q, stats);
         run.some_pairs(lp, range, out);
     }
 }
@@ -304,15 +305,7 @@ impl WholeQuery for CpuSelector {
         out: &mut Vec<Contact>,
         stats: &mut QueryStats,
     ) -> Result<()> {
-        self.sync_caches(q);
-        let mut run = steps::Run {
-            q,
-            h: q.half_depth,
-            s: &mut self.scratch,
-            caches: &mut self.caches,
-            slot_cache: &self.slot_cache,
-            stats,
-        };
+        let mut run = self.start(q, stats);
         run.all(out);
         Ok(())
     }
