@@ -819,11 +819,11 @@ int main(int argc, char **argv) {
         return 2;
     }
     printf("Worst errors in float ulps (limit %.0f). pt: point to the exact intersection, ext: |pa-pb| vs "
-           "its diameter (ulps of M); depth: vs exact SAT (ulps of max(D, 2^-24 E)); |n|: ulps of 1; "
+           "its diameter (ulps of M); depth: vs exact SAT (ulps of max(D, 2^-24 E)); n len: | |normal| - 1 | in ulps of 1; "
            "copl n: angle to a's normal / 2^-24; band d: distance (as depth); band pts: ulps of M; band n: "
            "distance - separation along n (ulps of E)\n\n",
            C.limit);
-    printf("| family | pairs | intersecting | coplanar | band | pt | ext | depth | |n|-1 | copl n | band d | band pts | "
+    printf("| family | pairs | intersecting | coplanar | band | pt | ext | depth | n len | copl n | band d | band pts | "
            "band n | failures |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
     long fails = 0;
     Stats W;
