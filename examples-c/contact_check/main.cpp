@@ -451,7 +451,10 @@ struct Checker {
             double D = dsqrt(sat_depth2(A, B));
             double e_d = std::fabs(g.depth - D) / ulp32(std::max(D, E * 0x1p-24));
             S.depth = std::max(S.depth, e_d);
-            if (e_d > limit) bad("|depth - exact SAT depth| / ulp(max(D, 2^-24 E))", e_d);
+            if (e_d > limit) {
+                snprintf(buf, sizeof buf, "%s: |depth - exact SAT depth (%a)| / ulp(max(D, 2^-24 E)) = %.3g", where, D, e_d);
+                S.fail(buf + corners(ca, na, cb, nb));
+            }
             // Separation, exactly on the translated polygons.
             double s = 8 * uE;
             Vec up = n * (FT(double(g.depth)) + FT(s));
