@@ -164,12 +164,10 @@ void pieces(const Simplex &s, const Simplex &t, std::vector<std::vector<Pt>> &ou
     }
 }
 
-// Squared distances, written out in exact rationals (CGAL 5.5's squared_distance between two
-// Segment_3 was seen to be off by 1e-6 relative on a skew pair, so none of CGAL's distance
-// functions is used): point-segment by the clamped projection, point-triangle by the
-// projection onto the plane when it falls inside (exact signs) else the edges,
-// segment-segment by the lines' closest pair when it lies inside both, else the four
-// endpoint-segment distances.
+// Squared distances, written out in exact rationals (independent of CGAL's distance
+// functions): point-segment by the clamped projection, point-triangle by the projection onto
+// the plane when it falls inside (exact signs) else the edges, segment-segment by the lines'
+// closest pair when it lies inside both, else the four endpoint-segment distances.
 FT sq_point_segment(const Pt &x, const Pt &p0, const Pt &p1) {
     Vec d = p1 - p0, w = x - p0;
     FT dd = d * d;
@@ -312,7 +310,11 @@ FT sat_depth2(const Poly &A, const Poly &B) {
     return best < 0 ? FT(0) : best; // no axis: everything collinear (coplanar, not asked)
 }
 
-double dsqrt(const FT &x) { return std::sqrt(std::max(0.0, CGAL::to_double(x))); }
+// A rational to the nearest double (well, within one ulp), from its exact value: Epeck's own
+// CGAL::to_double rounds its interval approximation, which after a cancellation (a small
+// overlap or gap between projections of coordinates far larger) can be wide.
+double todbl(const FT &x) { return CGAL::to_double(CGAL::exact(x)); }
+double dsqrt(const FT &x) { return std::sqrt(std::max(0.0, todbl(x))); }
 
 // Worst errors of one family, in ulps (see the header comment).
 struct Stats {
@@ -423,7 +425,7 @@ struct Checker {
                     FT d = CGAL::squared_distance(iv[i], iv[j]);
                     if (d > diam2) diam2 = d;
                 }
-            double spread = std::sqrt(CGAL::to_double(CGAL::squared_distance(pa, pb)));
+            double spread = dsqrt(CGAL::squared_distance(pa, pb));
             double e_ext = std::fabs(spread - dsqrt(diam2)) / uM;
             S.pt = std::max(S.pt, e_pt);
             S.ext = std::max(S.ext, e_ext);
@@ -436,7 +438,7 @@ struct Checker {
                 for (auto &s : A.s)
                     if (s.dim == 2) N = N + CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]);
                 if (N != CGAL::NULL_VECTOR) {
-                    double Nd[3] = {CGAL::to_double(N.x()), CGAL::to_double(N.y()), CGAL::to_double(N.z())};
+                    double Nd[3] = {todbl(N.x()), todbl(N.y()), todbl(N.z())};
                                         double c[3] = {g.normal[1] * Nd[2] - g.normal[2] * Nd[1], g.normal[2] * Nd[0] - g.normal[0] * Nd[2],
                                    g.normal[0] * Nd[1] - g.normal[1] * Nd[0]};
                     double dot = g.normal[0] * Nd[0] + g.normal[1] * Nd[1] + g.normal[2] * Nd[2];
@@ -494,7 +496,7 @@ struct Checker {
             FT x = (B.v[i] - CGAL::ORIGIN) * n;
             if (i == 0 || x > bmax) bmax = x;
         }
-        double gap = CGAL::to_double(amin - bmax) / nl;
+        double gap = todbl(amin - bmax) / nl;
         double e_bn = (d - gap) / uE;
         S.bnorm = std::max(S.bnorm, e_bn);
         if (e_bn > limit) bad("(distance - separation along the normal) / ulp(E)", e_bn);
