@@ -435,6 +435,9 @@ struct Checker {
             if (copl) {
                 S.copl++;
                 if (g.depth != 0) bad("coplanar depth (must be 0)", g.depth);
+                // Any translation along the normal separates: 1 ulp(E) must.
+                if (meet(translated(A, n * FT(uE)), B)) bad("coplanar: a moved by ulp(E) * normal still meets b", 1);
+                else S.sep = std::max(S.sep, 1.0);
                 Vec N = CGAL::NULL_VECTOR;
                 for (auto &s : A.s)
                     if (s.dim == 2) N = N + CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]);
