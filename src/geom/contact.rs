@@ -523,73 +523,57 @@ fn triangles_sat(va: &[V; 3], vb: &[V; 3], na: &V, nb: &V, da: &[f64; 3], db: &[
     ][five];
     // The two faces first: on na, relative to a's plane, a lies at 0 and b at db; on nb,
     // b at 0 and a at da. Moving a along +n by (bmax - amin), or along -n by (amax - bmin).
-    let face = |n: &V, (amin, amax): (f64, f64), (bmin, bmax): (f64, f64)| {
+    // Each candidate's axis `c`, translation `s`, direction and ranking key `s |s| / |c|^2`
+    // (numerator and denominator; the seven divisions are done together below, as
+    // independent lanes). Every candidate is kept and the winner taken by index: a `match`
+    // on it would mispredict. (No `array::map`: a generic closure is not inlined into the
+    // AVX2 build.)
+    let mut cs = [V::zeros(); 7];
+    let mut ss = [0.0; 7];
+    let mut dirs = [0.0; 7];
+    let mut num = [0.0; 8];
+    let mut den = [1.0; 8];
+    let mut face = |slot: usize, n: &V, (amin, amax): (f64, f64), (bmin, bmax): (f64, f64)| {
         let (up, down) = (bmax - amin, amax - bmin);
         let s = min(up, down);
-        let cc = n.norm_squared();
-        let key = s * s.abs() / cc;
-        (
-            if cc > 0.0 { key } else { f64::INFINITY },
-            s,
-            if up <= down { 1.0 } else { -1.0 },
-        )
+        num[slot] = s * s.abs();
+        den[slot] = n.norm_squared();
+        (cs[slot], ss[slot]) = (*n, s);
+        dirs[slot] = if up <= down { 1.0 } else { -1.0 };
     };
-    let fa = face(na, (0.0, 0.0), min_max(db));
-    let fb = face(nb, min_max(da), (0.0, 0.0));
-    // The five facets' crosses `c = ea_i x eb_j` and ranking keys `s |s| / |c|^2`, `s` the
-    // edges' offset `c . (vb_j - va_i)` signed by `a3_j` (a moves along `+c` when it is
-    // positive; no `a3` is zero here); the divisions as independent lanes next to nothing else, so that they go
-    // through the divider together rather than one after another.
-    // (No `array::map`: a generic closure is not inlined into the AVX2 build.)
-    let mut cs = [V::zeros(); 5];
-    let mut num = [0.0; 5];
-    let mut den = [0.0; 5];
+    face(0, na, (0.0, 0.0), min_max(db));
+    face(1, nb, min_max(da), (0.0, 0.0));
+    // The five facets: `c = ea_i x eb_j`, `s` the edges' offset `c . (vb_j - va_i)` signed
+    // by `a3_j` (a moves along `+c` when it is positive; no `a3` is zero here).
     for (m, &(i, j)) in pairs.iter().enumerate() {
-        cs[m] = ea[i].cross(&eb[j]);
-        let c = &cs[m];
-        den[m] = c.norm_squared();
-        let t = c.dot(&(vb[j] - va[i]));
-        let s = if a3[j] > 0.0 { t } else { -t };
-        num[m] = s * s.abs();
+        let c = ea[i].cross(&eb[j]);
+        // +-1 exactly: `s` is `t` or `-t`, chosen without a branch.
+        let dir = 1.0f64.copysign(a3[j]);
+        let s = dir * c.dot(&(vb[j] - va[i]));
+        num[m + 2] = s * s.abs();
+        den[m + 2] = c.norm_squared();
+        (cs[m + 2], ss[m + 2], dirs[m + 2]) = (c, s, dir);
     }
-    let mut keys = [0.0; 5];
-    for m in 0..5 {
+    let mut keys = [0.0; 8];
+    for m in 0..8 {
         keys[m] = num[m] / den[m];
     }
     let mut key = f64::INFINITY;
     let mut at = usize::MAX;
-    take_min(&mut key, &mut at, fa.0, 5);
-    take_min(&mut key, &mut at, fb.0, 6);
-    for m in 0..5 {
+    for m in 0..7 {
         // NaN (|c|^2 = 0) loses every comparison.
         let k = if den[m] > 0.0 { keys[m] } else { f64::INFINITY };
         take_min(&mut key, &mut at, k, m);
     }
-    match at {
-        5 => Axis {
-            c: *na,
-            s: fa.1,
-            dir: fa.2,
+    if at < 7 {
+        Axis {
+            c: cs[at],
+            s: ss[at],
+            dir: dirs[at],
             key,
-        },
-        6 => Axis {
-            c: *nb,
-            s: fb.1,
-            dir: fb.2,
-            key,
-        },
-        m if m < 5 => {
-            let (i, j) = pairs[m];
-            let c = cs[m];
-            let dir = if a3[j] > 0.0 { 1.0 } else { -1.0 };
-            Axis {
-                c,
-                s: dir * c.dot(&(vb[j] - va[i])),
-                dir,
-                key,
-            }
         }
-        _ => Axis::default(),
+    } else {
+        Axis::default()
     }
 }
 
