@@ -118,8 +118,9 @@ pub struct ContactGeometry {
 /// normals within 0.9 eps radian of the exact direction.
 ///
 /// **Cost**: two triangles crossing, about 1700 instructions (AVX2 build) including the
-/// exact test; on the heavy case (about 700 crossing pairs) 150 to 250 ns per pair, 10 to
-/// 17% of the query's time depending on the machine's load (`tests/contact_heavy.rs`).
+/// exact test; on the heavy case (about 700 crossing pairs) about 205 ns per pair when
+/// uninterrupted (the least of single runs), 200 to 300 ns on a loaded machine, 17 to 20%
+/// of the query's time (`tests/contact_heavy.rs`, `bench-results/contact.md`).
 pub fn contact_geometry(
     a: &[[P3; 3]; 2],
     na: usize,
