@@ -697,8 +697,14 @@ impl Scene {
         if self.geometry.len() == items.len() && !items.is_empty() {
             return Ok(&self.geometry);
         }
+        // Each mesh once (the pairs of an answer come from a few meshes, in runs).
+        let mut checked = None;
         for &(a, _, b, _) in &items {
             for id in [a, b] {
+                if checked == Some(id) {
+                    continue;
+                }
+                checked = Some(id);
                 if self.selector.gl_bound(id) {
                     return Err(Error::new(
                         ErrorKind::Unsupported,
@@ -716,11 +722,32 @@ impl Scene {
         let mut out = Vec::new();
         try_reserve(&mut out, items.len(), "the contact geometry")?;
         let meshes = &self.meshes;
-        let one = |&(a, pa, b, pb): &(MeshId, u32, MeshId, u32)| -> Result<ContactGeometry> {
+        // The last mesh looked up for each side, since consecutive pairs mostly share them.
+        type Last<'m> = [Option<(MeshId, &'m Mesh)>; 2];
+        fn get<'m>(
+            meshes: &'m BTreeMap<MeshId, Mesh>,
+            last: &mut Last<'m>,
+            side: usize,
+            id: MeshId,
+        ) -> Result<&'m Mesh> {
+            match last[side] {
+                Some((at, m)) if at == id => Ok(m),
+                _ => {
+                    let m = meshes.get(&id).ok_or_else(|| unknown(id))?;
+                    last[side] = Some((id, m));
+                    Ok(m)
+                }
+            }
+        }
+        fn one<'m>(
+            meshes: &'m BTreeMap<MeshId, Mesh>,
+            last: &mut Last<'m>,
+            &(a, pa, b, pb): &(MeshId, u32, MeshId, u32),
+        ) -> Result<ContactGeometry> {
             let mut ta = [[P3::default(); 3]; 2];
             let mut tb = [[P3::default(); 3]; 2];
-            let ma = meshes.get(&a).ok_or_else(|| unknown(a))?;
-            let mb = meshes.get(&b).ok_or_else(|| unknown(b))?;
+            let ma = get(meshes, last, 0, a)?;
+            let mb = get(meshes, last, 1, b)?;
             let bad =
                 |m, p| Error::new(ErrorKind::Internal, format!("mesh {m} has no polygon {p}"));
             let na = ma
@@ -730,18 +757,22 @@ impl Scene {
                 .polygon_triangles(pb, &mut tb)
                 .ok_or_else(|| bad(b, pb))?;
             Ok(contact_geometry(&ta, na, &tb, nb))
-        };
+        }
         match &self.pool {
             Some(pool) if items.len() > 256 => {
                 let found: Result<Vec<ContactGeometry>> = pool.install(|| {
                     use rayon::prelude::*;
-                    items.par_iter().map(one).collect()
+                    items
+                        .par_iter()
+                        .map_init(|| [None; 2], |last, it| one(meshes, last, it))
+                        .collect()
                 });
                 out = found?;
             }
             _ => {
+                let mut last = [None; 2];
                 for it in &items {
-                    out.push(one(it)?);
+                    out.push(one(meshes, &mut last, it)?);
                 }
             }
         }

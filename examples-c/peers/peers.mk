@@ -1,9 +1,11 @@
 # The peer harness (README.md beside this file), included by the drivers' Makefiles:
 #   examples-c/crosscheck/Makefile   PROGRAM = crosscheck    ENGINES = fcl bullet
 #   bench/peers/Makefile             PROGRAM = glcol_peers   ENGINES = fcl bullet embree gl
+#   examples-c/contact_check/Makefile PROGRAM = contact_check ENGINES = (none)
+#   bench/contact/Makefile           PROGRAM = contact_cost  ENGINES = fcl bullet (+ its own FCL with contacts)
 # The including Makefile sets PROGRAM, ENGINES and DRIVER (its own directory, which holds
 # main.cpp and gets build/PROGRAM) first. The harness's objects are built once, with one set of flags, in
-# examples-c/peers/build/ and linked into both programs.
+# examples-c/peers/build/ and linked into every program.
 # Peers are found with pkg-config: `fcl` (its .pc injects -std=c++11, so -std=c++17 comes
 # after it) and `bullet-float64` (double build: -DBT_USE_DOUBLE_PRECISION must match the
 # -float64 libraries); Embree 3 has no .pc (-lembree3). CGAL 5.5 is header-only (no .pc):

@@ -17,7 +17,7 @@
 
 use nalgebra::Vector3;
 
-use super::predicates::{collinear, orient2d, orient3d, P3};
+use super::predicates::{collinear, orient2d, orient3d, orient3d_filtered, P3};
 use super::tritri::{segments_intersect_2d, separated, triangles_intersect_with, Plane};
 
 type V = Vector3<f64>;
@@ -119,8 +119,9 @@ pub struct ContactGeometry {
 /// normals within 0.9 eps radian of the exact direction.
 ///
 /// **Cost**: two triangles crossing, about 1700 instructions (AVX2 build) including the
-/// exact test; on the heavy case (about 700 crossing pairs) 150 to 250 ns per pair, 10 to
-/// 17% of the query's time depending on the machine's load (`tests/contact_heavy.rs`).
+/// exact test; on the heavy case (about 700 crossing pairs) about 205 ns per pair when
+/// uninterrupted (the least of single runs), 200 to 300 ns on a loaded machine, 17 to 20%
+/// of the query's time (`tests/contact_heavy.rs`, `bench-results/contact.md`).
 pub fn contact_geometry(
     a: &[[P3; 3]; 2],
     na: usize,
@@ -302,7 +303,7 @@ fn general_position(a: &[P3; 3], b: &[P3; 3], su: [i8; 3], st: [i8; 3]) -> bool 
     let (p2, q2, r2) = (&lb[k2], &lb[NEXT[k2]], &lb[PREV[k2]]);
     let (q1, r1) = if sb[k2] > 0 { (r1, q1) } else { (q1, r1) };
     // The paper's CHECK_MIN_MAX, as tritri::gd_check.
-    orient3d(p2, p1, q2, q1) <= 0.0 && orient3d(p2, r1, r2, p1) <= 0.0
+    orient3d_filtered(p2, p1, q2, q1) <= 0.0 && orient3d_filtered(p2, r1, r2, p1) <= 0.0
 }
 
 /// Relative error allowed for in [`Face::sides`], as the query's plane filter
@@ -524,56 +525,57 @@ fn triangles_sat(va: &[V; 3], vb: &[V; 3], na: &V, nb: &V, da: &[f64; 3], db: &[
     ][five];
     // The two faces first: on na, relative to a's plane, a lies at 0 and b at db; on nb,
     // b at 0 and a at da. Moving a along +n by (bmax - amin), or along -n by (amax - bmin).
-    let face = |n: &V, (amin, amax): (f64, f64), (bmin, bmax): (f64, f64)| {
+    // Each candidate's axis `c`, translation `s`, direction and ranking key `s |s| / |c|^2`
+    // (numerator and denominator; the seven divisions are done together below, as
+    // independent lanes). Every candidate is kept and the winner taken by index: a `match`
+    // on it would mispredict. (No `array::map`: a generic closure is not inlined into the
+    // AVX2 build.)
+    let mut cs = [V::zeros(); 7];
+    let mut ss = [0.0; 7];
+    let mut dirs = [0.0; 7];
+    let mut num = [0.0; 8];
+    let mut den = [1.0; 8];
+    let mut face = |slot: usize, n: &V, (amin, amax): (f64, f64), (bmin, bmax): (f64, f64)| {
         let (up, down) = (bmax - amin, amax - bmin);
         let s = min(up, down);
-        let cc = n.norm_squared();
-        let key = s * s.abs() / cc;
-        (
-            if cc > 0.0 { key } else { f64::INFINITY },
-            s,
-            if up <= down { 1.0 } else { -1.0 },
-        )
+        num[slot] = s * s.abs();
+        den[slot] = n.norm_squared();
+        (cs[slot], ss[slot]) = (*n, s);
+        dirs[slot] = if up <= down { 1.0 } else { -1.0 };
     };
-    let fa = face(na, (0.0, 0.0), min_max(db));
-    let fb = face(nb, min_max(da), (0.0, 0.0));
+    face(0, na, (0.0, 0.0), min_max(db));
+    face(1, nb, min_max(da), (0.0, 0.0));
+    // The five facets: `c = ea_i x eb_j`, `s` the edges' offset `c . (vb_j - va_i)` signed
+    // by `a3_j` (a moves along `+c` when it is positive; no `a3` is zero here).
+    for (m, &(i, j)) in pairs.iter().enumerate() {
+        let c = ea[i].cross(&eb[j]);
+        // +-1 exactly: `s` is `t` or `-t`, chosen without a branch.
+        let dir = 1.0f64.copysign(a3[j]);
+        let s = dir * c.dot(&(vb[j] - va[i]));
+        num[m + 2] = s * s.abs();
+        den[m + 2] = c.norm_squared();
+        (cs[m + 2], ss[m + 2], dirs[m + 2]) = (c, s, dir);
+    }
+    let mut keys = [0.0; 8];
+    for m in 0..8 {
+        keys[m] = num[m] / den[m];
+    }
     let mut key = f64::INFINITY;
     let mut at = usize::MAX;
-    take_min(&mut key, &mut at, fa.0, 5);
-    take_min(&mut key, &mut at, fb.0, 6);
-    for (m, &(i, j)) in pairs.iter().enumerate() {
-        take_min(
-            &mut key,
-            &mut at,
-            edge_key(&ea[i], &eb[j], &(vb[j] - va[i]), a3[j]),
-            m,
-        );
+    for m in 0..7 {
+        // NaN (|c|^2 = 0) loses every comparison.
+        let k = if den[m] > 0.0 { keys[m] } else { f64::INFINITY };
+        take_min(&mut key, &mut at, k, m);
     }
-    match at {
-        5 => Axis {
-            c: *na,
-            s: fa.1,
-            dir: fa.2,
+    if at < 7 {
+        Axis {
+            c: cs[at],
+            s: ss[at],
+            dir: dirs[at],
             key,
-        },
-        6 => Axis {
-            c: *nb,
-            s: fb.1,
-            dir: fb.2,
-            key,
-        },
-        m if m < 5 => {
-            let (i, j) = pairs[m];
-            let c = ea[i].cross(&eb[j]);
-            let dir = if a3[j] > 0.0 { 1.0 } else { -1.0 };
-            Axis {
-                c,
-                s: dir * c.dot(&(vb[j] - va[i])),
-                dir,
-                key,
-            }
         }
-        _ => Axis::default(),
+    } else {
+        Axis::default()
     }
 }
 
@@ -639,23 +641,6 @@ const LONELY: [usize; 8] = [3, 0, 1, 2, 2, 1, 0, 3];
 #[inline(always)]
 fn pattern(d: &[f64; 3]) -> usize {
     usize::from(d[0] > 0.0) | usize::from(d[1] > 0.0) << 1 | usize::from(d[2] > 0.0) << 2
-}
-
-/// The ranking key `s |s| / |c|^2` of the facet normal `c = e x f` (edges of a facet of
-/// the Minkowski difference), `w` from `e`'s start to `f`'s and `a3` the sign that orients
-/// it (a moves along `+c` when positive); infinite when `c` or `a3` is zero.
-#[inline(always)]
-fn edge_key(e: &V, f: &V, w: &V, a3: f64) -> f64 {
-    let c = e.cross(f);
-    let cc = c.norm_squared();
-    let s = if a3 > 0.0 { c.dot(w) } else { -c.dot(w) };
-    let key = s * s.abs() / cc;
-    // NaN (cc = 0) and non-facets lose every comparison.
-    if cc > 0.0 && a3 != 0.0 {
-        key
-    } else {
-        f64::INFINITY
-    }
 }
 
 /// `best = min(best, key)`, remembering `at`, without a branch.

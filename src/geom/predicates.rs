@@ -23,6 +23,35 @@ pub fn orient3d(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
     robust::orient3d(p(a), p(b), p(c), p(d))
 }
 
+/// [`orient3d`] with its first stage inlined: Shewchuk's floating-point filter (the same
+/// operations and error bound as `robust::orient3d`'s, so the same value whenever it
+/// certifies the sign), calling the adaptive predicate only when it cannot. For hot loops
+/// where the call itself costs more than the filter.
+#[inline(always)]
+pub fn orient3d_filtered(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
+    // (7 + 56 eps) eps, eps = 2^-53: Shewchuk's `o3derrboundA`, as `robust` spells it.
+    const EPS: f64 = 0.000_000_000_000_000_111_022_302_462_515_65;
+    const BOUND_A: f64 = (7.0 + 56.0 * EPS) * EPS;
+    let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
+    let (ady, bdy, cdy) = (a[1] - d[1], b[1] - d[1], c[1] - d[1]);
+    let (adz, bdz, cdz) = (a[2] - d[2], b[2] - d[2], c[2] - d[2]);
+    let (bdxcdy, cdxbdy) = (bdx * cdy, cdx * bdy);
+    let (cdxady, adxcdy) = (cdx * ady, adx * cdy);
+    let (adxbdy, bdxady) = (adx * bdy, bdx * ady);
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    let errbound = BOUND_A * permanent;
+    // One comparison, not `det > errbound || -det > errbound`: the sign is random in the
+    // hot loops, and a branch on it mispredicts half the time (no NaN reaches here).
+    if det.abs() > errbound {
+        det
+    } else {
+        orient3d(a, b, c, d)
+    }
+}
+
 /// Sign of the 2D orientation of `c` against the line `a`-`b` (exactly zero when collinear).
 #[inline]
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
