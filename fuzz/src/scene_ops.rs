@@ -1,6 +1,7 @@
 //! Fuzz target (a): a sequence of C API calls decoded from the input: scenes, mesh creation
-//! (valid or not), updates (whole, ranges, bad ones), enabling, destroying, queries, and
-//! malformed calls. A model of the scene predicts every status, and every query is checked:
+//! (valid or not), updates (whole, ranges, bad ones), enabling, destroying, self-collision,
+//! filters, translations, queries, whole-scene queries, contact geometry, and malformed
+//! calls, on 1, 2 or one-per-core threads. A model of the scene predicts every status, and every query is checked:
 //! sorted, each pair once, only live enabled meshes; with coordinates on the 1/4 grid the
 //! answer must equal the exact oracle's (epsilon = 0) or contain it with extras only within
 //! epsilon/2 (epsilon > 0). Any panic aborts (libFuzzer's panic hook), so even a panic the
@@ -57,11 +58,20 @@ struct Model {
     enabled: bool,
     /// Every coordinate is on the 1/4 grid (the oracle's differences are then exact).
     grid: bool,
+    /// Translation of `glcol_mesh_set_transform` (multiples of 1/4: world stays on the grid).
+    t: [f32; 3],
+    self_collision: bool,
+    group: u32,
+    mask: u32,
 }
 
 impl Model {
+    /// Polygon `p`'s triangles in world coordinates (exact: grid values plus a grid shift).
     fn tris(&self, p: usize) -> Vec<[[f64; 3]; 3]> {
-        let v = |j: usize| self.pos[self.idx[p * self.k + j] as usize].map(f64::from);
+        let v = |j: usize| {
+            let x = self.pos[self.idx[p * self.k + j] as usize];
+            [0, 1, 2].map(|a| f64::from(x[a]) + f64::from(self.t[a]))
+        };
         if self.k == 3 {
             vec![[v(0), v(1), v(2)]]
         } else {
@@ -70,6 +80,15 @@ impl Model {
     }
     fn polygons(&self) -> usize {
         self.idx.len() / self.k
+    }
+    /// API.md's filter: are meshes `self` and `o` collided at all?
+    fn collides_with(&self, o: &Model) -> bool {
+        self.group & o.mask != 0 && o.group & self.mask != 0
+    }
+    fn shares_vertex(&self, a: usize, b: usize) -> bool {
+        let va = &self.idx[a * self.k..(a + 1) * self.k];
+        let vb = &self.idx[b * self.k..(b + 1) * self.k];
+        va.iter().any(|v| vb.contains(v))
     }
 }
 
@@ -105,7 +124,7 @@ fn query(scene: *mut GlcolScene, id: u32) -> (GlcolStatus, Vec<GlcolContact>) {
     (s, unsafe { std::slice::from_raw_parts(p, n) }.to_vec())
 }
 
-fn check_query(scene: *mut GlcolScene, meshes: &[Model], r: usize, epsilon: f32) {
+fn check_query(scene: *mut GlcolScene, meshes: &[Model], r: usize, epsilon: f32) -> usize {
     let m = &meshes[r];
     let (s, got) = query(scene, m.id);
     status(s, GlcolStatus::Ok, "query");
@@ -116,7 +135,7 @@ fn check_query(scene: *mut GlcolScene, meshes: &[Model], r: usize, epsilon: f32)
     );
     if !m.enabled {
         assert!(got.is_empty(), "a disabled reference has contacts");
-        return;
+        return 0;
     }
     for c in &got {
         let o = meshes
@@ -124,19 +143,19 @@ fn check_query(scene: *mut GlcolScene, meshes: &[Model], r: usize, epsilon: f32)
             .find(|o| o.id == c.other_mesh)
             .expect("contact names a dead mesh");
         assert!(
-            o.enabled && o.id != m.id,
-            "contact with a disabled mesh or itself"
+            o.enabled && o.id != m.id && m.collides_with(o),
+            "contact with a disabled or filtered-out mesh or itself"
         );
         assert!((c.reference_polygon as usize) < m.polygons());
         assert!((c.other_polygon as usize) < o.polygons());
     }
     if !m.grid {
-        return;
+        return got.len();
     }
     let h = f64::from(epsilon) / 2.0;
     for o in meshes
         .iter()
-        .filter(|o| o.id != m.id && o.enabled && o.grid)
+        .filter(|o| o.id != m.id && o.enabled && o.grid && m.collides_with(o))
     {
         for a in 0..m.polygons() {
             for b in 0..o.polygons() {
@@ -164,12 +183,132 @@ fn check_query(scene: *mut GlcolScene, meshes: &[Model], r: usize, epsilon: f32)
             }
         }
     }
+    got.len()
+}
+
+/// `glcol_query_all`: sorted, each pair once, (mesh_a, polygon_a) < (mesh_b, polygon_b),
+/// only enabled meshes that pass the filter, same-mesh pairs only with self-collision on and
+/// never a polygon with itself; on the grid at epsilon 0: every pair of two meshes and every
+/// non-adjacent pair of one mesh exactly as the oracle says, adjacent ones only if they meet.
+fn check_query_all(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) -> usize {
+    let mut p: *const GlcolPair = null();
+    let mut n = usize::MAX;
+    status(
+        unsafe { glcol_query_all(scene, &mut p, &mut n) },
+        GlcolStatus::Ok,
+        "query_all",
+    );
+    let got = if n == 0 {
+        Vec::new()
+    } else {
+        unsafe { std::slice::from_raw_parts(p, n) }.to_vec()
+    };
+    let key = |q: &GlcolPair| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b);
+    assert!(
+        got.windows(2).all(|w| key(&w[0]) < key(&w[1])),
+        "pairs not sorted/unique"
+    );
+    let model = |id: u32| {
+        meshes
+            .iter()
+            .find(|m| m.id == id)
+            .expect("pair names a dead mesh")
+    };
+    for q in &got {
+        let (a, b) = (model(q.mesh_a), model(q.mesh_b));
+        assert!((q.mesh_a, q.polygon_a) < (q.mesh_b, q.polygon_b));
+        assert!(a.enabled && b.enabled, "pair with a disabled mesh");
+        assert!((q.polygon_a as usize) < a.polygons() && (q.polygon_b as usize) < b.polygons());
+        if a.id == b.id {
+            assert!(a.self_collision, "same-mesh pair without self-collision");
+        } else {
+            assert!(a.collides_with(b), "pair of filtered-out meshes");
+        }
+    }
+    if epsilon != 0.0 {
+        return got.len();
+    }
+    let on = |m: &&Model| m.enabled && m.grid;
+    for a in meshes.iter().filter(on) {
+        for b in meshes.iter().filter(on).filter(|b| b.id >= a.id) {
+            let same = a.id == b.id;
+            if same && !a.self_collision || !same && !a.collides_with(b) {
+                continue;
+            }
+            for pa in 0..a.polygons() {
+                for pb in if same { pa + 1 } else { 0 }..b.polygons() {
+                    let meets = a
+                        .tris(pa)
+                        .iter()
+                        .any(|t| b.tris(pb).iter().any(|u| oracle::triangles_meet(t, u)));
+                    let found = got
+                        .binary_search_by_key(&(a.id, pa as u32, b.id, pb as u32), key)
+                        .is_ok();
+                    if same && a.shares_vertex(pa, pb) {
+                        assert!(
+                            !found || meets,
+                            "adjacent pair ({pa}, {pb}) apart but reported"
+                        );
+                    } else {
+                        assert_eq!(found, meets, "pair {}:{pa} {}:{pb}", a.id, b.id);
+                    }
+                }
+            }
+        }
+    }
+    got.len()
+}
+
+/// `glcol_query_geometry` after a successful query of `n` contacts or pairs: one entry
+/// each, all finite, unit normals, depth >= 0 exactly for intersecting pairs (all of them at
+/// epsilon 0).
+fn check_geometry(scene: *mut GlcolScene, n: usize, epsilon: f32) {
+    let mut p: *const GlcolContactGeometry = null();
+    let mut m = usize::MAX;
+    status(
+        unsafe { glcol_query_geometry(scene, &mut p, &mut m) },
+        GlcolStatus::Ok,
+        "query_geometry",
+    );
+    assert_eq!(m, n, "one geometry entry per pair");
+    if n == 0 {
+        return;
+    }
+    for g in unsafe { std::slice::from_raw_parts(p, n) } {
+        let all = g.point_a.iter().chain(&g.point_b).chain(&g.normal);
+        assert!(
+            all.chain([&g.depth]).all(|v| v.is_finite()),
+            "non-finite geometry"
+        );
+        let len = g
+            .normal
+            .iter()
+            .map(|v| f64::from(*v).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!((len - 1.0).abs() < 1e-5, "normal of length {len}");
+        let meets = g.flags & GLCOL_CONTACT_INTERSECTING != 0;
+        assert!(
+            meets || epsilon > 0.0,
+            "a pair only within the band at epsilon 0"
+        );
+        assert!(
+            if meets {
+                g.depth >= 0.0
+            } else {
+                g.depth <= 0.0
+            },
+            "depth {}",
+            g.depth
+        );
+    }
 }
 
 pub fn run(data: &[u8]) {
     let mut c = Bytes(data);
     let mut d = unsafe { std::mem::zeroed::<GlcolSceneDesc>() };
-    unsafe { glcol_scene_desc_init(&mut d) };
+    unsafe { glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>()) };
+    d.threads = [1, 2, 0][c.below(3)];
     let epsilon = [0.0f32, 0.0, 0.25, 1e-3][c.below(4)];
     d.epsilon = epsilon;
     d.max_polygons_per_box = c.below(6) as u32;
@@ -206,7 +345,7 @@ pub fn run(data: &[u8]) {
                 (id, meshes.iter().position(|m| m.id == id))
             }
         };
-        match c.below(8) {
+        match c.below(11) {
             0 | 1 => {
                 // Create a mesh, valid or not.
                 let k = [3usize, 4, 3, 4, 3, 4, 5, 0][c.below(8)];
@@ -269,6 +408,10 @@ pub fn run(data: &[u8]) {
                         k,
                         enabled: true,
                         grid,
+                        t: [0.0; 3],
+                        self_collision: false,
+                        group: 1,
+                        mask: u32::MAX,
                     });
                 } else {
                     assert_eq!(id, 0xDEAD);
@@ -305,7 +448,12 @@ pub fn run(data: &[u8]) {
                 let s = unsafe {
                     glcol_mesh_update_positions(scene, id, buf.as_ptr(), first, count, stride)
                 };
-                status(s, want, "update");
+                // A placed mesh refuses positions whose world positions could leave the float
+                // range (decided conservatively from its box): NON_FINITE, nothing changed.
+                let placed = i.is_some_and(|i| meshes[i].t != [0.0; 3]);
+                if !(placed && want == GlcolStatus::Ok && s == GlcolStatus::NonFinite) {
+                    status(s, want, "update");
+                }
                 if let (GlcolStatus::Ok, Some(i)) = (s, i) {
                     let m = &mut meshes[i];
                     m.pos[first..first + count].copy_from_slice(&new[..count]);
@@ -343,13 +491,86 @@ pub fn run(data: &[u8]) {
             5 | 6 => {
                 let (id, i) = pick(&mut c, &meshes, &dead);
                 match i {
-                    Some(i) => check_query(scene, &meshes, i, epsilon),
+                    Some(i) => {
+                        let n = check_query(scene, &meshes, i, epsilon);
+                        check_geometry(scene, n, epsilon);
+                    }
                     None => status(
                         query(scene, id).0,
                         GlcolStatus::UnknownMesh,
                         "query unknown",
                     ),
                 }
+            }
+            8 => {
+                // Self-collision, filters, a translation (or back to the identity).
+                let (id, i) = pick(&mut c, &meshes, &dead);
+                let which = c.below(3);
+                let s = match which {
+                    0 => {
+                        let on = c.below(2) == 0;
+                        let s = unsafe { glcol_mesh_set_self_collision(scene, id, on) };
+                        if let (GlcolStatus::Ok, Some(i)) = (s, i) {
+                            meshes[i].self_collision = on;
+                        }
+                        s
+                    }
+                    1 => {
+                        let group = [1, 2, 3, 0][c.below(4)];
+                        let mask = [u32::MAX, 1, 2, 0][c.below(4)];
+                        let s = unsafe { glcol_mesh_set_filter(scene, id, group, mask) };
+                        if let (GlcolStatus::Ok, Some(i)) = (s, i) {
+                            (meshes[i].group, meshes[i].mask) = (group, mask);
+                        }
+                        s
+                    }
+                    _ => {
+                        let t = [0, 1, 2].map(|_| (c.below(17) as f32 - 8.0) * 0.25);
+                        let identity = c.below(4) == 0;
+                        let m: [f64; 12] = [
+                            1.0,
+                            0.0,
+                            0.0,
+                            f64::from(t[0]),
+                            0.0,
+                            1.0,
+                            0.0,
+                            f64::from(t[1]),
+                            0.0,
+                            0.0,
+                            1.0,
+                            f64::from(t[2]),
+                        ];
+                        let mp = if identity { null() } else { m.as_ptr() };
+                        let s = unsafe { glcol_mesh_set_transform(scene, id, mp) };
+                        match (s, i) {
+                            (GlcolStatus::Ok, Some(i)) => {
+                                meshes[i].t = if identity { [0.0; 3] } else { t };
+                            }
+                            // Huge local coordinates may leave the float range once moved.
+                            _ => {}
+                        }
+                        if s == GlcolStatus::NonFinite && i.is_some_and(|i| !meshes[i].grid) {
+                            GlcolStatus::Ok
+                        } else {
+                            s
+                        }
+                    }
+                };
+                let want = if i.is_some() {
+                    GlcolStatus::Ok
+                } else {
+                    GlcolStatus::UnknownMesh
+                };
+                status(
+                    s,
+                    want,
+                    ["set_self_collision", "set_filter", "set_transform"][which],
+                );
+            }
+            9 => {
+                let n = check_query_all(scene, &meshes, epsilon);
+                check_geometry(scene, n, epsilon);
             }
             _ => {
                 // Malformed calls that must change nothing.
@@ -376,9 +597,10 @@ pub fn run(data: &[u8]) {
             }
         }
     }
-    // Every live mesh's answer at the end.
+    // Every live mesh's answer at the end, and the whole scene's.
     for i in 0..meshes.len() {
         check_query(scene, &meshes, i, epsilon);
     }
+    check_query_all(scene, &meshes, epsilon);
     unsafe { glcol_scene_destroy(scene) };
 }
