@@ -543,13 +543,11 @@ pub fn run(data: &[u8]) {
                         ];
                         let mp = if identity { null() } else { m.as_ptr() };
                         let s = unsafe { glcol_mesh_set_transform(scene, id, mp) };
-                        match (s, i) {
-                            (GlcolStatus::Ok, Some(i)) => {
-                                meshes[i].t = if identity { [0.0; 3] } else { t };
-                            }
-                            // Huge local coordinates may leave the float range once moved.
-                            _ => {}
+                        if let (GlcolStatus::Ok, Some(i)) = (s, i) {
+                            meshes[i].t = if identity { [0.0; 3] } else { t };
                         }
+                        // Huge local coordinates may leave the float range once moved:
+                        // NON_FINITE, nothing changed (the model keeps its translation).
                         if s == GlcolStatus::NonFinite && i.is_some_and(|i| !meshes[i].grid) {
                             GlcolStatus::Ok
                         } else {
