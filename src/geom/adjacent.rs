@@ -222,20 +222,7 @@ fn touch_only_at_joint(
     // The projection of the projected rules: across `a`'s largest normal component, where
     // both triangles must project to proper triangles.
     let projected = || -> Option<usize> {
-        let e = [a[1][0] - a[0][0], a[1][1] - a[0][1], a[1][2] - a[0][2]];
-        let f = [a[2][0] - a[0][0], a[2][1] - a[0][1], a[2][2] - a[0][2]];
-        let n = [
-            (e[1] * f[2] - e[2] * f[1]).abs(),
-            (e[2] * f[0] - e[0] * f[2]).abs(),
-            (e[0] * f[1] - e[1] * f[0]).abs(),
-        ];
-        let axis = if n[0] >= n[1] && n[0] >= n[2] {
-            0
-        } else if n[1] >= n[2] {
-            1
-        } else {
-            2
-        };
+        let axis = normal_axis_guess(&a[0], &a[1], &a[2]);
         let proper = |t: &[P3; 3]| {
             orient2d(
                 drop_axis(&t[0], axis),
@@ -728,6 +715,16 @@ fn shape(t: &[P3; 3]) -> Shape {
 /// its plane); `None` when it is degenerate. The axis of the largest component of a
 /// floating-point normal is tried first, as a guess only: the exact `orient2d` decides.
 fn projection_axis(a: &P3, b: &P3, c: &P3) -> Option<usize> {
+    let first = normal_axis_guess(a, b, c);
+    [first, (first + 1) % 3, (first + 2) % 3]
+        .into_iter()
+        .find(|&ax| orient2d(drop_axis(a, ax), drop_axis(b, ax), drop_axis(c, ax)) != 0.0)
+}
+
+/// The axis of the largest component of the floating-point normal of `(a, b, c)`: a guess
+/// at the coordinate plane it projects onto best (exact predicates decide).
+#[inline]
+fn normal_axis_guess(a: &P3, b: &P3, c: &P3) -> usize {
     let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let f = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     let n = [
@@ -735,16 +732,13 @@ fn projection_axis(a: &P3, b: &P3, c: &P3) -> Option<usize> {
         (e[2] * f[0] - e[0] * f[2]).abs(),
         (e[0] * f[1] - e[1] * f[0]).abs(),
     ];
-    let first = if n[0] >= n[1] && n[0] >= n[2] {
+    if n[0] >= n[1] && n[0] >= n[2] {
         0
     } else if n[1] >= n[2] {
         1
     } else {
         2
-    };
-    [first, (first + 1) % 3, (first + 2) % 3]
-        .into_iter()
-        .find(|&ax| orient2d(drop_axis(a, ax), drop_axis(b, ax), drop_axis(c, ax)) != 0.0)
+    }
 }
 
 /// [`projection_axis`] of a triangle known to be proper (which always has one).
