@@ -13,6 +13,10 @@ make -s -j2 -C bench/peers LIBDIR="${CARGO_TARGET_DIR:-$PWD/target}/release"
 mkdir -p "$tmp/scenes"
 bench/peers/build/glcol_peers --quick --no-gl --meshes "${MESHES:-../shared/meshes}" --out "$tmp" --dump "$tmp/scenes" 2>"$tmp/log" \
   || { cat "$tmp/log"; exit 1; }
+# The contact-geometry cost bench (bench-results/contact.md), built and run on 2 frames.
+make -s -j2 -C bench/contact LIBDIR="${CARGO_TARGET_DIR:-$PWD/target}/release"
+bench/contact/build/contact_cost --meshes "${MESHES:-../shared/meshes}" --frames 2 --reps 1 --only colon >/dev/null 2>>"$tmp/log" \
+  || { cat "$tmp/log"; exit 1; }
 cargo bench --locked -q --bench parry -- "$tmp/scenes" "$tmp/parry.csv" 2>>"$tmp/log" || { cat "$tmp/log"; exit 1; }
 echo "smoke" >"$tmp/machine.txt"
 python3 bench/summarize.py "$tmp" >/dev/null
