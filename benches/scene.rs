@@ -11,7 +11,8 @@
 //!   cargo bench --bench scene -- scaling bench-results/scaling.csv
 //! Environment: `SCENE=substring` keeps the scenes whose name contains it, `EPS=0` or
 //! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count,
-//! `SPHERES=10,100,1000` the body counts of the spheres scene (default 1000).
+//! `SPHERES=10,100,1000` the body counts of the spheres scene (default 1000), `DUMP=DIR`
+//! writes the scenes' two frames as OBJ files under DIR (for the C++ peers).
 
 use std::time::Instant;
 
@@ -139,6 +140,63 @@ fn spheres_case(n: usize) -> Case {
     }
 }
 
+/// A large cloth in heavy self-contact, the size of the UNC cloth-ball benchmark (92k
+/// triangles), wrapped around a ball: a 216 x 216 vertex sheet rolled into a spiral of
+/// three turns whose layers carry a wave that is out of phase from one layer to the next,
+/// so that neighbouring layers cross along thin bands and come within a fraction of their
+/// spacing elsewhere (the contact pattern of a crumpled cloth); the innermost layer rests on
+/// the ball. The second frame shifts the wave's phase (every vertex moves, as in a
+/// simulation step). Generated, not recorded: the recorded cloth of ../shared is 14k.
+fn rolled_cloth_case() -> Case {
+    let n = 216u32;
+    let (turns, r0, d, len) = (3.0f64, 0.2f64, 0.02f64, 4.0f64);
+    let mut tris = Vec::new();
+    let at = |i: u32, j: u32| j * n + i;
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let (a, b, c, e) = (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1));
+            tris.extend([a, b, e, a, e, c]);
+        }
+    }
+    let tau = std::f64::consts::TAU;
+    let sheet = |phase: f64| -> Vec<[f32; 3]> {
+        let mut p = Vec::with_capacity((n * n) as usize);
+        for j in 0..n {
+            let v = j as f64 / (n - 1) as f64;
+            for i in 0..n {
+                let th = turns * tau * i as f64 / (n - 1) as f64;
+                // Consecutive layers (th and th + tau) get opposite waves (2.5 cycles per
+                // turn): amplitude 0.52 d, so they cross where both peak.
+                let w = 0.52 * d * (8.0 * tau * v + 2.5 * th + phase).sin();
+                let r = r0 + d * th / tau + w;
+                p.push([
+                    (r * th.cos()) as f32,
+                    (r * th.sin()) as f32,
+                    (len * (v - 0.5)) as f32,
+                ]);
+            }
+        }
+        p
+    };
+    let ball = spheres_case(1);
+    let ball_at = |f: usize| -> Vec<[f32; 3]> {
+        let c = ball.frames[f][0][0]; // north pole: the unit sphere's centre + (0, 0, 1)
+        let centre = [c[0], c[1], c[2] - 1.0];
+        ball.frames[f][0]
+            .iter()
+            .map(|q| [0, 1, 2].map(|k| (q[k] - centre[k]) * (r0 as f32 - 0.002)))
+            .collect()
+    };
+    let frames = [vec![sheet(0.0), ball_at(0)], vec![sheet(0.05), ball_at(1)]];
+    let extent = extent_of(frames[0].iter().flatten());
+    Case {
+        name: format!("rolled cloth of {} triangles + ball", tris.len() / 3),
+        idx: vec![tris, ball.idx[0].clone()],
+        frames,
+        extent,
+    }
+}
+
 /// Median ms per frame (update every mesh + query_all), pairs in the last frame, the
 /// stages of the median query.
 fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64, usize, AllStats) {
@@ -183,6 +241,33 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64
         pairs,
         mid,
     )
+}
+
+/// Writes `case` as OBJ files `DIR/NAME/frame{0,1}_partNN.obj` (the layout of
+/// ../shared/meshes/sim), for the C++ peers (`DUMP=DIR`).
+fn dump(case: &Case, dir: &str) {
+    use std::fmt::Write;
+    let slug: String = case
+        .name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    let out = format!("{dir}/{slug}");
+    std::fs::create_dir_all(&out).expect("creating the dump directory");
+    for (f, frame) in case.frames.iter().enumerate() {
+        for (part, (p, idx)) in frame.iter().zip(&case.idx).enumerate() {
+            let mut s = String::new();
+            for q in p {
+                writeln!(s, "v {:?} {:?} {:?}", q[0], q[1], q[2]).unwrap();
+            }
+            for t in idx.chunks(3) {
+                writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1).unwrap();
+            }
+            let path = format!("{out}/frame{f}_part{part:02}.obj");
+            std::fs::write(&path, s).expect("writing an OBJ");
+        }
+    }
+    println!("wrote {out}/frame{{0,1}}_part*.obj");
 }
 
 fn ms(n: u64) -> String {
@@ -242,6 +327,9 @@ fn main() {
         .filter(|(n, _)| keep(n))
         .map(|&(n, f)| sim_case(n, f))
         .collect();
+    if keep("rolled cloth") {
+        cases.push(rolled_cloth_case());
+    }
     if keep("spheres") {
         // SPHERES=10,100,5000: the body counts of the spheres scene (time vs body count).
         let counts: Vec<usize> = match var("SPHERES") {
@@ -252,6 +340,11 @@ fn main() {
             None => vec![1000],
         };
         cases.extend(counts.into_iter().map(spheres_case));
+    }
+    if let Some(dir) = var("DUMP") {
+        for case in &cases {
+            dump(case, &dir);
+        }
     }
     println!("{frames} frames per row, median; every mesh self-colliding; CPU backend\n");
     println!(
