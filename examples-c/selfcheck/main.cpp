@@ -3,7 +3,9 @@
 // real simulation frames and adversarial folds. Uses only glcollide's C header.
 //
 //   cargo build --release && make -C examples-c/selfcheck && examples-c/selfcheck/build/selfcheck
-//   selfcheck [--meshes DIR] [--inject] [--only NAME] [--time]
+//   selfcheck [--meshes DIR] [--inject] [--only NAME] [--time] [--obj FILE]...
+// --obj checks (and with --time times) the given OBJ meshes instead of the built-in cases,
+// e.g. the 92k rolled cloth that `DUMP=DIR SCENE=rolled cargo bench --bench scene` writes.
 // --time also times CGAL with Epick (and checks it gives Epeck's set), glcollide alone
 // (one thread, median of 3 queries) and, built with `make EMBREE=1`, Embree's rtcCollide.
 //
@@ -541,6 +543,7 @@ int main(int argc, char **argv) {
     std::string dir = "../shared/meshes";
     std::string only;
     bool inject = false, timed = false;
+    std::vector<std::string> objs;
     for (int i = 1; i < argc; i++) {
         if (!std::strcmp(argv[i], "--meshes") && i + 1 < argc) {
             dir = argv[++i];
@@ -550,8 +553,11 @@ int main(int argc, char **argv) {
             inject = true;
         } else if (!std::strcmp(argv[i], "--time")) {
             timed = true;
+        } else if (!std::strcmp(argv[i], "--obj") && i + 1 < argc) {
+            objs.push_back(argv[++i]);
         } else {
-            std::fprintf(stderr, "usage: %s [--meshes DIR] [--only NAME] [--inject] [--time]\n", argv[0]);
+            std::fprintf(stderr, "usage: %s [--meshes DIR] [--only NAME] [--inject] [--time] [--obj FILE]...\n",
+                         argv[0]);
             return 2;
         }
     }
@@ -560,9 +566,16 @@ int main(int argc, char **argv) {
         return 2;
     }
     std::vector<Mesh> cases;
+    for (const std::string &path : objs) {
+        Mesh m;
+        m.name = path;
+        if (!load(path, m)) return 2;
+        cases.push_back(std::move(m));
+    }
     const char *sims[][3] = {{"cloth-funnel", "227", "0123"}, {"cloth-funnel", "228", "0"},
                              {"armadillo-rollers", "326", "0"}, {"rod-twist", "3036", "0"}};
     for (auto &s : sims) {
+        if (!objs.empty()) break;
         for (const char *part = s[2]; *part; part++) {
             Mesh m;
             m.name = std::string(s[0]) + " " + s[1] + " part0" + *part;
@@ -596,7 +609,7 @@ int main(int argc, char **argv) {
         break;
     }
     for (Mesh &m : adversarial())
-        if (only.empty() || m.name.find(only) != std::string::npos) cases.push_back(std::move(m));
+        if (objs.empty() && (only.empty() || m.name.find(only) != std::string::npos)) cases.push_back(std::move(m));
     Totals tot;
     for (const Mesh &m : cases) check(m, inject, timed, tot);
     std::printf("selfcheck: %d meshes, %zu self pairs (%zu adjacent), %zu pairs with a degenerate face left "
