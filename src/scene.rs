@@ -530,13 +530,19 @@ impl Scene {
             self.self_preps.resize_with(selfs.len(), SelfPrep::default);
         }
         let preps = &mut self.self_preps[..selfs.len()];
-        let make = |(prep, &i): (&mut SelfPrep, &u32)| prep.make(list[i as usize].mesh, h);
         match &self.pool {
-            Some(pool) if selfs.len() > 1 => pool.install(|| {
+            Some(pool) if !selfs.is_empty() => pool.install(|| {
                 use rayon::prelude::*;
-                preps.par_iter_mut().zip(&selfs).for_each(make)
+                preps
+                    .par_iter_mut()
+                    .zip(&selfs)
+                    .for_each(|(prep, &i)| prep.make(list[i as usize].mesh, h, true))
             }),
-            _ => preps.iter_mut().zip(&selfs).for_each(make),
+            _ => {
+                for (prep, &i) in preps.iter_mut().zip(&selfs) {
+                    prep.make(list[i as usize].mesh, h, false);
+                }
+            }
         }
         let preps = &self.self_preps[..selfs.len()];
         for (n, (prep, &i)) in preps.iter().zip(&selfs).enumerate() {

@@ -82,6 +82,48 @@ pub fn mesh_pairs(
 /// Polygons per sub-leaf of a self-colliding mesh (see [`SelfPrep`]).
 const SUB_LEAF: usize = 16;
 
+/// Polygons from which [`SelfPrep::make`] shares a mesh's preparation between workers.
+const PAR_MIN: usize = 4096;
+
+/// Cuts the polygons `items` of one leaf (positions `start..` of the leaf order) into
+/// sub-leaves of at most [`SUB_LEAF`] by median splits of their box centres along the widest
+/// axis, reordering `items`; returns the sub-leaves' end positions, in order.
+fn split_leaf(start: usize, items: &mut [u32], pb: &[Aabb]) -> Vec<u32> {
+    let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
+    let mut ends = Vec::with_capacity(items.len() / (SUB_LEAF / 2) + 1);
+    let mut stack = vec![(0, items.len())];
+    // Depth-first, left half first: sub-leaves come out in order.
+    while let Some((a, b)) = stack.pop() {
+        if b - a <= SUB_LEAF {
+            ends.push((start + b) as u32);
+            continue;
+        }
+        let items = &mut items[a..b];
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for &p in items.iter() {
+            let c = &pb[p as usize];
+            for k in 0..3 {
+                lo[k] = lo[k].min(centre(c, k));
+                hi[k] = hi[k].max(centre(c, k));
+            }
+        }
+        let axis = (0..3).fold(0, |best, k| {
+            if hi[k] - lo[k] > hi[best] - lo[best] {
+                k
+            } else {
+                best
+            }
+        });
+        let mid = items.len() / 2;
+        items.select_nth_unstable_by(mid, |&x, &y| {
+            centre(&pb[x as usize], axis).total_cmp(&centre(&pb[y as usize], axis))
+        });
+        stack.push((a + mid, b));
+        stack.push((a, a + mid));
+    }
+    ends
+}
+
 /// One self-colliding mesh made ready for a query, once, before the tasks: its leaf pairs,
 /// and each leaf cut into sub-leaves of at most [`SUB_LEAF`] polygons (median splits of
 /// the polygons' box centres, as the leaves themselves), with their boxes. A leaf pair's
@@ -112,7 +154,6 @@ pub struct SelfPrep {
     /// Triangle meshes: per leaf-order polygon, its corners in `f64` and its plane.
     tris: Vec<[P3; 3]>,
     planes: Vec<Plane>,
-    stack: Vec<(usize, usize)>,
     grown_leaves: Vec<Aabb>,
     found: Vec<(u32, u32)>,
     sweep: Sweep,
@@ -123,7 +164,13 @@ pub struct SelfPrep {
 
 impl SelfPrep {
     /// Makes the leaf pairs, sub-leaves and vertex indices of mesh `m` for half depth `h`.
-    pub fn make(&mut self, m: &Mesh, h: f64) {
+    /// With `par` (the caller runs inside the scene's worker pool), a big mesh's
+    /// per-polygon and per-leaf work is shared between the workers: for a scene of one big
+    /// cloth this runs before any task and would otherwise keep the other cores idle.
+    pub fn make(&mut self, m: &Mesh, h: f64, par: bool) {
+        use rayon::prelude::*;
+        let n = m.polygon_count();
+        let par = par && n >= PAR_MIN;
         self.grown_leaves.clear();
         self.grown_leaves
             .extend(m.leaf_boxes().iter().map(|b| b.grown(h)));
@@ -134,19 +181,31 @@ impl SelfPrep {
         self.leaf_pairs
             .extend(self.found.iter().copied().filter(|&(i, j)| i <= j));
         self.leaf_pairs.sort_unstable();
-        let n = m.polygon_count();
         self.poly_boxes.clear();
-        self.poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
         self.verts.clear();
-        self.verts.extend((0..n).map(|p| vertices(m, p)));
         self.tris.clear();
         self.planes.clear();
-        if m.vertices_per_polygon() == 3 {
+        let tri = |p: usize| {
             let mut t = [[[0.0; 3]; 3]; 2];
-            for p in 0..n {
-                m.triangles(p, &mut t);
-                self.tris.push(t[0]);
-                self.planes.push(Plane::of(&t[0]));
+            m.triangles(p, &mut t);
+            t[0]
+        };
+        let triangles = m.vertices_per_polygon() == 3;
+        if par {
+            self.poly_boxes
+                .par_extend((0..n).into_par_iter().map(|p| m.poly_box(p)));
+            self.verts
+                .par_extend((0..n).into_par_iter().map(|p| vertices(m, p)));
+            if triangles {
+                self.tris.par_extend((0..n).into_par_iter().map(tri));
+                self.planes.par_extend(self.tris.par_iter().map(Plane::of));
+            }
+        } else {
+            self.poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
+            self.verts.extend((0..n).map(|p| vertices(m, p)));
+            if triangles {
+                self.tris.extend((0..n).map(tri));
+                self.planes.extend(self.tris.iter().map(Plane::of));
             }
         }
         self.order.clear();
@@ -155,41 +214,30 @@ impl SelfPrep {
         self.sub_start.push(0);
         self.leaf_sub.clear();
         self.leaf_sub.push(0);
-        let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
+        // Each leaf's polygons are split on their own (disjoint ranges of `order`); the
+        // sub-leaf ends come back leaf by leaf, in order.
+        let (order, pb) = (&mut self.order[..], &self.poly_boxes[..]);
+        let mut slices = Vec::with_capacity(m.leaf_count());
+        let mut rest = order;
         for l in 0..m.leaf_count() {
             let r = m.leaves.polys(l);
-            self.stack.clear();
-            self.stack.push((r.start, r.end));
-            // Depth-first, left half first: sub-leaves come out in order.
-            while let Some((a, b)) = self.stack.pop() {
-                if b - a <= SUB_LEAF {
-                    self.sub_start.push(b as u32);
-                    continue;
-                }
-                let items = &mut self.order[a..b];
-                let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-                for &p in items.iter() {
-                    let c = &self.poly_boxes[p as usize];
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(centre(c, k));
-                        hi[k] = hi[k].max(centre(c, k));
-                    }
-                }
-                let axis = (0..3).fold(0, |best, k| {
-                    if hi[k] - lo[k] > hi[best] - lo[best] {
-                        k
-                    } else {
-                        best
-                    }
-                });
-                let mid = items.len() / 2;
-                let pb = &self.poly_boxes;
-                items.select_nth_unstable_by(mid, |&x, &y| {
-                    centre(&pb[x as usize], axis).total_cmp(&centre(&pb[y as usize], axis))
-                });
-                self.stack.push((a + mid, b));
-                self.stack.push((a, a + mid));
-            }
+            debug_assert_eq!(
+                r.start,
+                n - rest.len(),
+                "leaves cover the polygons in order"
+            );
+            let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.end - r.start);
+            slices.push((r.start, this));
+            rest = tail;
+        }
+        let split = |(start, items): (usize, &mut [u32])| split_leaf(start, items, pb);
+        let ends: Vec<Vec<u32>> = if par {
+            slices.into_par_iter().map(split).collect()
+        } else {
+            slices.into_iter().map(split).collect()
+        };
+        for e in ends {
+            self.sub_start.extend(e);
             self.leaf_sub.push(self.sub_start.len() as u32 - 1);
         }
         self.boxes.clear();
