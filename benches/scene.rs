@@ -384,7 +384,7 @@ fn main() {
         let p = st.pair_step_nanos;
         println!(
             "| {name} | {eps} | {threads} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | \
-             {} mp, {} lp, {} bp ({} / {} / {}), {} + {} found |",
+             {} mp, {} lp, {} bp ({} / {} / {}), {} + {} found; proven {} patches, {} sub-leaves |",
             ms(st.total_nanos),
             ms(st.broad_nanos),
             ms(st.self_leaf_nanos),
@@ -404,6 +404,8 @@ fn main() {
             st.self_narrow_tests,
             st.self_found,
             st.pair_found,
+            st.self_cert_patches,
+            st.self_cert_subs,
         );
     }
 }

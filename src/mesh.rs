@@ -217,6 +217,10 @@ pub struct Mesh {
     pub(crate) place: Option<Box<Placement>>,
     /// Bumped at every placement change (world polygon boxes cached per mesh are stale).
     pub(crate) pose: u64,
+    /// Triangle meshes: each edge's twin by vertex index ([`crate::geom::patch::twins`],
+    /// leaf order), made at the first self-collision query that needs it (the topology
+    /// never changes); `None` inside where no patch certificate can be tried.
+    twins: std::sync::OnceLock<Option<Box<[u32]>>>,
 }
 
 /// A mesh's placement: its matrix and its leaf boxes carried into the world
@@ -401,12 +405,32 @@ impl Mesh {
             generation: 0,
             place: None,
             pose: 0,
+            twins: std::sync::OnceLock::new(),
         })
     }
 
     /// The caller's vertex count.
     pub fn vertex_count(&self) -> usize {
         self.vertex_slot_start.len() - 1
+    }
+
+    /// Each edge's twin (see the field), for triangle meshes whose directed edges are
+    /// all distinct.
+    pub(crate) fn twins(&self) -> Option<&[u32]> {
+        if self.k != 3 {
+            return None;
+        }
+        self.twins
+            .get_or_init(|| {
+                let verts: Vec<[u32; 3]> = (0..self.polygon_count())
+                    .map(|p| {
+                        let v = self.poly(p);
+                        [0, 1, 2].map(|i| self.slot_vertex[v[i] as usize])
+                    })
+                    .collect();
+                crate::geom::patch::twins(&verts).map(Vec::into_boxed_slice)
+            })
+            .as_deref()
     }
 
     /// Number of polygons.

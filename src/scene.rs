@@ -547,6 +547,8 @@ impl Scene {
         let preps = &self.self_preps[..selfs.len()];
         for (n, (prep, &i)) in preps.iter().zip(&selfs).enumerate() {
             let pairs = prep.leaf_pairs.len();
+            st.self_cert_patches += prep.certified_patches;
+            st.self_cert_subs += prep.certified_subs;
             st.self_leaf_pairs += pairs;
             tasks.extend((0..pairs).step_by(LEAF_PAIRS_PER_TASK).map(|s| Task::Own {
                 i,

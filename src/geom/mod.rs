@@ -3,6 +3,7 @@
 pub mod adjacent;
 pub mod affine;
 pub mod contact;
+pub mod patch;
 pub mod polygon;
 pub mod predicates;
 pub mod sweep;

@@ -16,6 +16,7 @@ use crate::backend::Pair;
 use crate::geom::adjacent::{
     adjacent_polygons_meet, shares_vertex, triangles_touch_only_at_joint_planes,
 };
+use crate::geom::patch::{mask_axis, turn_mask, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
 use crate::geom::tritri::Plane;
@@ -85,43 +86,173 @@ const SUB_LEAF: usize = 16;
 /// Polygons from which [`SelfPrep::make`] shares a mesh's preparation between workers.
 const PAR_MIN: usize = 4096;
 
-/// Cuts the polygons `items` of one leaf (positions `start..` of the leaf order) into
-/// sub-leaves of at most [`SUB_LEAF`] by median splits of their box centres along the widest
-/// axis, reordering `items`; returns the sub-leaves' end positions, in order.
-fn split_leaf(start: usize, items: &mut [u32], pb: &[Aabb]) -> Vec<u32> {
-    let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
-    let mut ends = Vec::with_capacity(items.len() / (SUB_LEAF / 2) + 1);
-    let mut stack = vec![(0, items.len())];
-    // Depth-first, left half first: sub-leaves come out in order.
-    while let Some((a, b)) = stack.pop() {
-        if b - a <= SUB_LEAF {
-            ends.push((start + b) as u32);
-            continue;
+/// What [`leaf_work`] found of one leaf: its sub-leaves' end positions in the leaf order
+/// and their patches (numbered within the leaf), its patches' certificates and boundaries,
+/// and which sub-leaves are proven on their own.
+struct LeafOut {
+    ends: Vec<u32>,
+    sub_patch: Vec<u32>,
+    patches: Vec<(u8, Vec<u32>)>,
+    sub_ok: Vec<bool>,
+}
+
+/// One leaf of a self-colliding mesh: `items` (its polygons, positions `start..` of the
+/// leaf order) are grouped by connected piece (shared edges, from the twins `tw`; one
+/// piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by median
+/// splits of the box centres along the widest axis; `local` gets each polygon's piece. Each
+/// piece is then tried as a patch ([`crate::geom::patch`]), and the sub-leaves of the
+/// pieces that fail, on their own.
+#[allow(clippy::too_many_arguments)]
+fn leaf_work(
+    start: usize,
+    items: &mut [u32],
+    local: &mut [u32],
+    pb: &[Aabb],
+    tw: Option<&[u32]>,
+    tris: &[[P3; 3]],
+    verts: &[[u32; 4]],
+    turns: &[u8],
+    check: &mut PatchCheck,
+) -> LeafOut {
+    let len = items.len();
+    let inside = |t: u32| (t as usize).wrapping_sub(start) < len;
+    // Connected pieces: union-find over the shared edges inside the leaf.
+    let pieces = if let Some(tw) = tw {
+        let mut up: Vec<u32> = (0..len as u32).collect();
+        fn root(up: &mut [u32], mut x: u32) -> u32 {
+            while up[x as usize] != x {
+                up[x as usize] = up[up[x as usize] as usize];
+                x = up[x as usize];
+            }
+            x
         }
-        let items = &mut items[a..b];
-        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        for &p in items.iter() {
-            let c = &pb[p as usize];
-            for k in 0..3 {
-                lo[k] = lo[k].min(centre(c, k));
-                hi[k] = hi[k].max(centre(c, k));
+        for i in 0..len {
+            for e in 0..3 {
+                let t = tw[3 * (start + i) + e];
+                if t != NONE && inside(t) {
+                    let (a, b) = (root(&mut up, i as u32), root(&mut up, t - start as u32));
+                    up[a.max(b) as usize] = a.min(b);
+                }
             }
         }
-        let axis = (0..3).fold(0, |best, k| {
-            if hi[k] - lo[k] > hi[best] - lo[best] {
-                k
+        let mut count = 0;
+        for i in 0..len {
+            let r = root(&mut up, i as u32) as usize;
+            local[i] = if r == i {
+                count += 1;
+                count - 1
             } else {
-                best
+                local[r]
+            };
+        }
+        count as usize
+    } else {
+        local.fill(0);
+        1
+    };
+    items.sort_unstable_by_key(|&p| local[p as usize - start]);
+    let mut out = LeafOut {
+        ends: Vec::with_capacity(len / (SUB_LEAF / 2) + pieces + 1),
+        sub_patch: Vec::new(),
+        patches: Vec::with_capacity(pieces),
+        sub_ok: Vec::new(),
+    };
+    let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
+    let mut stack = Vec::new();
+    let mut run = 0;
+    while run < len {
+        let c = local[items[run] as usize - start];
+        let end = run
+            + items[run..]
+                .iter()
+                .take_while(|&&p| local[p as usize - start] == c)
+                .count();
+        let first_sub = out.ends.len();
+        // Depth-first, left half first: sub-leaves come out in order.
+        stack.push((run, end));
+        while let Some((a, b)) = stack.pop() {
+            if b - a <= SUB_LEAF {
+                out.ends.push((start + b) as u32);
+                out.sub_patch.push(c);
+                continue;
             }
-        });
-        let mid = items.len() / 2;
-        items.select_nth_unstable_by(mid, |&x, &y| {
-            centre(&pb[x as usize], axis).total_cmp(&centre(&pb[y as usize], axis))
-        });
-        stack.push((a + mid, b));
-        stack.push((a, a + mid));
+            let part = &mut items[a..b];
+            let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+            for &p in part.iter() {
+                let q = &pb[p as usize];
+                for k in 0..3 {
+                    lo[k] = lo[k].min(centre(q, k));
+                    hi[k] = hi[k].max(centre(q, k));
+                }
+            }
+            let axis = (0..3).fold(0, |best, k| {
+                if hi[k] - lo[k] > hi[best] - lo[best] {
+                    k
+                } else {
+                    best
+                }
+            });
+            let mid = part.len() / 2;
+            part.select_nth_unstable_by(mid, |&x, &y| {
+                centre(&pb[x as usize], axis).total_cmp(&centre(&pb[y as usize], axis))
+            });
+            stack.push((a + mid, b));
+            stack.push((a, a + mid));
+        }
+        let subs = out.ends.len() - first_sub;
+        let Some(tw) = tw else {
+            out.patches.push((0, Vec::new()));
+            out.sub_ok.extend(std::iter::repeat_n(false, subs));
+            run = end;
+            continue;
+        };
+        // The piece as a patch: triangles `items[run..end]`, boundary edges those whose twin
+        // is in no triangle of it.
+        let ids = items[run..end].iter().map(|&p| p as usize);
+        let in_piece = |t: u32| t != NONE && inside(t) && local[t as usize - start] == c;
+        let mask = |ids: &mut dyn Iterator<Item = usize>| ids.fold(0x3f, |m, p| m & turns[p]);
+        let proven = Some(mask(&mut ids.clone()))
+            .filter(|&m| m != 0)
+            .and_then(|pr| {
+                let bound: Vec<u32> = ids
+                    .clone()
+                    .flat_map(|p| 3 * p..3 * p + 3)
+                    .filter(|&x| !in_piece(tw[x]))
+                    .map(|x| x as u32)
+                    .collect();
+                check
+                    .simple_loop(bound.iter().copied(), mask_axis(pr), verts, tris)
+                    .then_some((pr, bound))
+            });
+        match proven {
+            Some((pr, bound)) => {
+                out.patches.push((pr, bound));
+                out.sub_ok.extend(std::iter::repeat_n(false, subs));
+            }
+            None => {
+                out.patches.push((0, Vec::new()));
+                // Its sub-leaves on their own.
+                let mut from = run;
+                for k in 0..subs {
+                    let to = out.ends[first_sub + k] as usize - start;
+                    let sub = &items[from..to];
+                    let ids = sub.iter().map(|&p| p as usize);
+                    let pr = mask(&mut ids.clone());
+                    let ok = pr != 0 && {
+                        let edges = ids
+                            .flat_map(|p| 3 * p..3 * p + 3)
+                            .filter(|&x| !sub.contains(&tw[x]))
+                            .map(|x| x as u32);
+                        check.simple_loop(edges, mask_axis(pr), verts, tris)
+                    };
+                    out.sub_ok.push(ok);
+                    from = to;
+                }
+            }
+        }
+        run = end;
     }
-    ends
+    out
 }
 
 /// One self-colliding mesh made ready for a query, once, before the tasks: its leaf pairs,
@@ -157,6 +288,24 @@ pub struct SelfPrep {
     grown_leaves: Vec<Aabb>,
     found: Vec<(u32, u32)>,
     sweep: Sweep,
+    /// Patch certificates ([`crate::geom::patch`]; triangle meshes with consistently
+    /// oriented edges). A patch is one connected piece (by shared edges) of one leaf; each
+    /// sub-leaf lies in one patch (`sub_patch`). Per patch: its usable projections ([`turn_mask`]; 0: not proven) when it is proven
+    /// free of self-intersection, and then its boundary edges (`3 * polygon + edge`,
+    /// `patch_bound[patch_bound_start[c]..patch_bound_start[c + 1]]`); per polygon its
+    /// patch; per sub-leaf whether it is proven on its own (in unproven patches).
+    patch_of: Vec<u32>,
+    sub_patch: Vec<u32>,
+    patch_cert: Vec<u8>,
+    /// Per leaf-order triangle: [`turn_mask`].
+    turns: Vec<u8>,
+    patch_bound: Vec<u32>,
+    patch_bound_start: Vec<u32>,
+    sub_cert: Vec<bool>,
+    /// Patches proven by their certificate in the last [`SelfPrep::make`].
+    pub certified_patches: usize,
+    /// Sub-leaves proven on their own (in patches not proven whole).
+    pub certified_subs: usize,
     /// Leaf pairs `(i, j)`, `i <= j`, whose boxes meet once grown by `h`, sorted: the
     /// units of work of [`self_pairs`] (callers may split them between threads).
     pub leaf_pairs: Vec<(u32, u32)>,
@@ -191,6 +340,9 @@ impl SelfPrep {
             t[0]
         };
         let triangles = m.vertices_per_polygon() == 3;
+        let tw = m.twins();
+        let certify = tw.is_some();
+        self.turns.clear();
         if par {
             self.poly_boxes
                 .par_extend((0..n).into_par_iter().map(|p| m.poly_box(p)));
@@ -200,6 +352,9 @@ impl SelfPrep {
                 self.tris.par_extend((0..n).into_par_iter().map(tri));
                 self.planes.par_extend(self.tris.par_iter().map(Plane::of));
             }
+            if certify {
+                self.turns.par_extend(self.tris.par_iter().map(turn_mask));
+            }
         } else {
             self.poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
             self.verts.extend((0..n).map(|p| vertices(m, p)));
@@ -207,18 +362,20 @@ impl SelfPrep {
                 self.tris.extend((0..n).map(tri));
                 self.planes.extend(self.tris.iter().map(Plane::of));
             }
+            if certify {
+                self.turns.extend(self.tris.iter().map(turn_mask));
+            }
         }
         self.order.clear();
         self.order.extend(0..n as u32);
-        self.sub_start.clear();
-        self.sub_start.push(0);
-        self.leaf_sub.clear();
-        self.leaf_sub.push(0);
-        // Each leaf's polygons are split on their own (disjoint ranges of `order`); the
-        // sub-leaf ends come back leaf by leaf, in order.
-        let (order, pb) = (&mut self.order[..], &self.poly_boxes[..]);
+        self.patch_of.clear();
+        self.patch_of.resize(n, 0);
+        // Each leaf on its own (disjoint ranges of `order` and `patch_of`): its connected
+        // pieces, their sub-leaves and certificates; results come back leaf by leaf.
+        let (tris, verts, pb) = (&self.tris[..], &self.verts[..], &self.poly_boxes[..]);
+        let turns = &self.turns[..];
         let mut slices = Vec::with_capacity(m.leaf_count());
-        let mut rest = order;
+        let (mut rest, mut rest_patch) = (&mut self.order[..], &mut self.patch_of[..]);
         for l in 0..m.leaf_count() {
             let r = m.leaves.polys(l);
             debug_assert_eq!(
@@ -226,19 +383,53 @@ impl SelfPrep {
                 n - rest.len(),
                 "leaves cover the polygons in order"
             );
-            let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.end - r.start);
-            slices.push((r.start, this));
+            let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
+            let (this_p, tail_p) = std::mem::take(&mut rest_patch).split_at_mut(r.len());
+            slices.push((r.start, this, this_p));
             rest = tail;
+            rest_patch = tail_p;
         }
-        let split = |(start, items): (usize, &mut [u32])| split_leaf(start, items, pb);
-        let ends: Vec<Vec<u32>> = if par {
-            slices.into_par_iter().map(split).collect()
-        } else {
-            slices.into_iter().map(split).collect()
+        let work = |check: &mut PatchCheck,
+                    (start, items, local): (usize, &mut [u32], &mut [u32])| {
+            leaf_work(start, items, local, pb, tw, tris, verts, turns, check)
         };
-        for e in ends {
-            self.sub_start.extend(e);
+        let outs: Vec<LeafOut> = if par {
+            slices
+                .into_par_iter()
+                .map_init(PatchCheck::default, work)
+                .collect()
+        } else {
+            let mut check = PatchCheck::default();
+            slices.into_iter().map(|x| work(&mut check, x)).collect()
+        };
+        self.sub_start.clear();
+        self.sub_start.push(0);
+        self.leaf_sub.clear();
+        self.leaf_sub.push(0);
+        self.sub_patch.clear();
+        self.sub_cert.clear();
+        self.patch_cert.clear();
+        self.patch_bound.clear();
+        self.patch_bound_start.clear();
+        self.patch_bound_start.push(0);
+        (self.certified_patches, self.certified_subs) = (0, 0);
+        for (l, out) in outs.into_iter().enumerate() {
+            let first = self.patch_cert.len() as u32;
+            for x in &mut self.patch_of[m.leaves.polys(l)] {
+                *x += first;
+            }
+            self.sub_start.extend(out.ends);
             self.leaf_sub.push(self.sub_start.len() as u32 - 1);
+            self.sub_patch
+                .extend(out.sub_patch.iter().map(|&c| c + first));
+            self.certified_subs += out.sub_ok.iter().filter(|&&x| x).count();
+            self.sub_cert.extend(out.sub_ok);
+            for (pr, bound) in out.patches {
+                self.certified_patches += (pr != 0) as usize;
+                self.patch_cert.push(pr);
+                self.patch_bound.extend(bound);
+                self.patch_bound_start.push(self.patch_bound.len() as u32);
+            }
         }
         self.boxes.clear();
         self.boxes
@@ -260,17 +451,60 @@ impl SelfPrep {
             .extend(self.sub_boxes.iter().map(|b| b.grown(h)));
     }
 
+    /// Patches `a` and `b` (different) together proven free of self-intersection: both
+    /// proven, with a projection in which all their triangles turn the same way, sharing
+    /// an edge, and their union's boundary (the two
+    /// boundaries less the edges they share) one simple loop.
+    fn patches_proven(&self, m: &Mesh, a: u32, b: u32, check: &mut PatchCheck) -> bool {
+        let (a, b) = (a as usize, b as usize);
+        let common = self.patch_cert[a] & self.patch_cert[b];
+        if common == 0 {
+            return false;
+        }
+        let Some(tw) = m.twins() else {
+            return false;
+        };
+        let bound = |c: usize| {
+            &self.patch_bound
+                [self.patch_bound_start[c] as usize..self.patch_bound_start[c + 1] as usize]
+        };
+        let into = |x: u32, c: usize| {
+            let t = tw[x as usize];
+            t != NONE && self.patch_of[t as usize] as usize == c
+        };
+        // Sharing no edge, the union has two boundary loops.
+        if !bound(a).iter().any(|&x| into(x, b)) {
+            return false;
+        }
+        let edges = bound(a)
+            .iter()
+            .copied()
+            .filter(|&x| !into(x, b))
+            .chain(bound(b).iter().copied().filter(|&x| !into(x, a)));
+        check.simple_loop(edges, mask_axis(common), &self.verts, &self.tris)
+    }
+
     /// The range of `order` of sub-leaf `s`.
     #[inline]
     fn sub(&self, s: usize) -> std::ops::Range<usize> {
         self.sub_start[s] as usize..self.sub_start[s + 1] as usize
     }
 
-    /// Calls `f(p, q)` for the leaf-order polygons `p` of leaf `i` and `q` of leaf `j`
-    /// whose boxes meet once `p`'s is grown by `h` (`p < q` when `i == j`), each pair
-    /// once. `masks` is scratch.
+    /// Calls `f(p, q, proven)` for the leaf-order polygons `p` of leaf `i` and `q` of leaf
+    /// `j` whose boxes meet once `p`'s is grown by `h` (`p < q` when `i == j`), each pair
+    /// once; `proven`: `proven_subs` of their two sub-leaves said that both lie in a patch
+    /// proven free of self-intersection. With `exact` (epsilon 0) the pairs of proven
+    /// sub-leaf pairs are not enumerated at all. `masks` is scratch.
     #[inline]
-    fn box_pairs(&self, i: usize, j: usize, masks: &mut Vec<u32>, mut f: impl FnMut(u32, u32)) {
+    fn box_pairs(
+        &self,
+        i: usize,
+        j: usize,
+        exact: bool,
+        masks: &mut Vec<u32>,
+        mut proven_subs: impl FnMut(usize, usize) -> bool,
+        mut f: impl FnMut(u32, u32, bool),
+    ) {
         let (si, sj) = (
             self.leaf_sub[i] as usize..self.leaf_sub[i + 1] as usize,
             self.leaf_sub[j] as usize..self.leaf_sub[j + 1] as usize,
@@ -282,12 +516,16 @@ impl SelfPrep {
                 if !g.meets(&self.sub_boxes[b]) {
                     continue;
                 }
+                let proven = proven_subs(a, b);
+                if proven && exact {
+                    continue;
+                }
                 let rb = self.sub(b);
                 let cands = &self.boxes[rb.clone()];
                 self.lanes.each_pair(self.sub(a), cands, masks, |x, y| {
                     let (p, q) = (self.order[x as usize], self.order[rb.start + y as usize]);
                     if a != b || p < q {
-                        f(p, q);
+                        f(p, q, proven);
                     }
                 });
             }
@@ -302,6 +540,9 @@ pub struct SelfScratch {
     adjacent: Vec<(u32, u32)>,
     apart: Vec<(u32, u32)>,
     masks: Vec<u32>,
+    check: PatchCheck,
+    /// Patch pairs of the leaf pair at hand whose union was tried, and the outcome.
+    unions: Vec<((u32, u32), bool)>,
     /// Polygons prepared for the narrow test (by leaf-order index), valid for the task
     /// whose stamp they carry; their viewing volumes likewise (`h > 0`).
     prepared: Vec<(u64, Prepared)>,
@@ -348,6 +589,11 @@ pub struct AllStats {
     pub self_narrow_tests: usize,
     /// Self-collision: polygon pairs found.
     pub self_found: usize,
+    /// Self-collision patch certificates ([`crate::geom::patch`]): patches (connected
+    /// pieces of leaves) proven free of self-intersection.
+    pub self_cert_patches: usize,
+    /// Sub-leaves proven so on their own (in patches not proven whole).
+    pub self_cert_subs: usize,
     /// Sorting and merging the answer, ns.
     pub merge_nanos: u64,
 }
@@ -393,15 +639,44 @@ pub fn self_pairs(
     s.apart.clear();
     let k = m.vertices_per_polygon();
     let (adjacent, apart) = (&mut s.adjacent, &mut s.apart);
+    let exact = h == 0.0;
+    let (check, unions) = (&mut s.check, &mut s.unions);
     for &(i, j) in leaf_pairs {
-        prep.box_pairs(i as usize, j as usize, &mut s.masks, |p, q| {
-            let (vp, vq) = (&prep.verts[p as usize], &prep.verts[q as usize]);
-            if shares_vertex(&vp[..k], &vq[..k]) {
-                adjacent.push((p, q));
-            } else {
-                apart.push((p, q));
+        unions.clear();
+        // Two sub-leaves are proven together when they lie in one proven patch, or in two
+        // whose union is proven (asked once per patch pair and leaf pair), or are one sub-leaf
+        // proven on its own.
+        let proven_subs = |a: usize, b: usize| {
+            let (pa, pb) = (prep.sub_patch[a], prep.sub_patch[b]);
+            if pa == pb {
+                return prep.patch_cert[pa as usize] != 0 || (a == b && prep.sub_cert[a]);
             }
-        });
+            let key = (pa.min(pb), pa.max(pb));
+            if let Some(&(_, ok)) = unions.iter().find(|u| u.0 == key) {
+                return ok;
+            }
+            let ok = prep.patches_proven(m, key.0, key.1, check);
+            unions.push((key, ok));
+            ok
+        };
+        prep.box_pairs(
+            i as usize,
+            j as usize,
+            exact,
+            &mut s.masks,
+            proven_subs,
+            |p, q, proven| {
+                let (vp, vq) = (&prep.verts[p as usize], &prep.verts[q as usize]);
+                if shares_vertex(&vp[..k], &vq[..k]) {
+                    // Proven patches meet only where they share: nothing to decide.
+                    if !proven {
+                        adjacent.push((p, q));
+                    }
+                } else {
+                    apart.push((p, q));
+                }
+            },
+        );
     }
     st.self_box_nanos += nanos_since(t);
     st.self_box_pairs += s.adjacent.len() + s.apart.len();
