@@ -86,6 +86,19 @@ const SUB_LEAF: usize = 16;
 /// Polygons from which [`SelfPrep::make`] shares a mesh's preparation between workers.
 const PAR_MIN: usize = 4096;
 
+/// The projections in which all triangles `ids` turn the same way ([`turn_mask`] bits
+/// common to all; 0 as soon as there is none).
+fn common_turns(ids: &mut dyn Iterator<Item = usize>, turns: &[u8]) -> u8 {
+    let mut m = 0x3f;
+    for p in ids {
+        m &= turns[p];
+        if m == 0 {
+            break;
+        }
+    }
+    m
+}
+
 /// What [`leaf_work`] found of one leaf: its sub-leaves' end positions in the leaf order
 /// and their patches (numbered within the leaf), its patches' certificates and boundaries,
 /// and which sub-leaves are proven on their own.
@@ -159,6 +172,7 @@ fn leaf_work(
     };
     let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
     let mut stack = Vec::new();
+    let mut sub_of: Vec<u32> = Vec::new();
     let mut run = 0;
     while run < len {
         let c = local[items[run] as usize - start];
@@ -210,7 +224,7 @@ fn leaf_work(
         // is in no triangle of it.
         let ids = items[run..end].iter().map(|&p| p as usize);
         let in_piece = |t: u32| t != NONE && inside(t) && local[t as usize - start] == c;
-        let mask = |ids: &mut dyn Iterator<Item = usize>| ids.fold(0x3f, |m, p| m & turns[p]);
+        let mask = |ids: &mut dyn Iterator<Item = usize>| common_turns(ids, turns);
         let proven = Some(mask(&mut ids.clone()))
             .filter(|&m| m != 0)
             .and_then(|pr| {
@@ -231,17 +245,29 @@ fn leaf_work(
             }
             None => {
                 out.patches.push((0, Vec::new()));
-                // Its sub-leaves on their own.
+                // Its sub-leaves on their own (`sub_of`: each polygon's sub-leaf in the
+                // piece).
+                if sub_of.len() < len {
+                    sub_of.resize(len, 0);
+                }
                 let mut from = run;
                 for k in 0..subs {
                     let to = out.ends[first_sub + k] as usize - start;
-                    let sub = &items[from..to];
-                    let ids = sub.iter().map(|&p| p as usize);
+                    for &p in &items[from..to] {
+                        sub_of[p as usize - start] = k as u32;
+                    }
+                    from = to;
+                }
+                let mut from = run;
+                for k in 0..subs {
+                    let to = out.ends[first_sub + k] as usize - start;
+                    let ids = items[from..to].iter().map(|&p| p as usize);
                     let pr = mask(&mut ids.clone());
+                    let in_sub = |t: u32| in_piece(t) && sub_of[t as usize - start] == k as u32;
                     let ok = pr != 0 && {
                         let edges = ids
                             .flat_map(|p| 3 * p..3 * p + 3)
-                            .filter(|&x| !sub.contains(&tw[x]))
+                            .filter(|&x| !in_sub(tw[x]))
                             .map(|x| x as u32);
                         check.simple_loop(edges, mask_axis(pr), verts, tris)
                     };
