@@ -172,7 +172,11 @@ fn leaf_work(
     };
     let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
     let mut stack = Vec::new();
-    let mut sub_of: Vec<u32> = Vec::new();
+    // The split's inner nodes (ranges of `items`, parents before children) and each
+    // polygon's position in `items` (filled for pieces that fail).
+    let mut nodes: Vec<(usize, usize)> = Vec::new();
+    let mut pos_of: Vec<u32> = Vec::new();
+    let mut extra = Vec::new();
     let mut run = 0;
     while run < len {
         let c = local[items[run] as usize - start];
@@ -184,12 +188,14 @@ fn leaf_work(
         let first_sub = out.ends.len();
         // Depth-first, left half first: sub-leaves come out in order.
         stack.push((run, end));
+        nodes.clear();
         while let Some((a, b)) = stack.pop() {
             if b - a <= SUB_LEAF {
                 out.ends.push((start + b) as u32);
                 out.sub_patch.push(c);
                 continue;
             }
+            nodes.push((a, b));
             let part = &mut items[a..b];
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
             for &p in part.iter() {
@@ -245,38 +251,80 @@ fn leaf_work(
             }
             None => {
                 out.patches.push((0, Vec::new()));
-                // Its sub-leaves on their own (`sub_of`: each polygon's sub-leaf in the
-                // piece).
-                if sub_of.len() < len {
-                    sub_of.resize(len, 0);
+                // Its halves, quarters... (the split's nodes, largest first), then the
+                // sub-leaves no proven node holds, each as a patch of its own.
+                if pos_of.len() < len {
+                    pos_of.resize(len, 0);
                 }
-                let mut from = run;
-                for k in 0..subs {
-                    let to = out.ends[first_sub + k] as usize - start;
-                    for &p in &items[from..to] {
-                        sub_of[p as usize - start] = k as u32;
+                for (at, &p) in items.iter().enumerate().take(end).skip(run) {
+                    pos_of[p as usize - start] = at as u32;
+                }
+                let pos_of = &pos_of;
+                let node_bound = |a: usize, b: usize| {
+                    let within = move |t: u32| {
+                        t != NONE
+                            && inside(t)
+                            && (a..b).contains(&(pos_of[t as usize - start] as usize))
+                    };
+                    items[a..b]
+                        .iter()
+                        .flat_map(|&p| 3 * p as usize..3 * p as usize + 3)
+                        .filter(move |&x| !within(tw[x]))
+                        .map(|x| x as u32)
+                };
+                let mut proven_nodes = Vec::new();
+                let mut covered = run;
+                // The first node is the piece itself, just refused.
+                for &(a, b) in nodes.iter().skip(1) {
+                    if a < covered {
+                        continue;
                     }
-                    from = to;
+                    let pr = mask(&mut items[a..b].iter().map(|&p| p as usize));
+                    if pr != 0 && check.simple_loop(node_bound(a, b), mask_axis(pr), verts, tris) {
+                        proven_nodes.push((a, b, pr));
+                        covered = b;
+                    }
                 }
                 let mut from = run;
+                let mut next_node = 0;
                 for k in 0..subs {
                     let to = out.ends[first_sub + k] as usize - start;
-                    let ids = items[from..to].iter().map(|&p| p as usize);
-                    let pr = mask(&mut ids.clone());
-                    let in_sub = |t: u32| in_piece(t) && sub_of[t as usize - start] == k as u32;
-                    let ok = pr != 0 && {
-                        let edges = ids
-                            .flat_map(|p| 3 * p..3 * p + 3)
-                            .filter(|&x| !in_sub(tw[x]))
-                            .map(|x| x as u32);
-                        check.simple_loop(edges, mask_axis(pr), verts, tris)
+                    while next_node < proven_nodes.len() && proven_nodes[next_node].1 <= from {
+                        next_node += 1;
+                    }
+                    let in_node = proven_nodes
+                        .get(next_node)
+                        .is_some_and(|&(a, b, _)| a <= from && to <= b);
+                    let ok = !in_node && {
+                        let pr = mask(&mut items[from..to].iter().map(|&p| p as usize));
+                        pr != 0
+                            && check.simple_loop(node_bound(from, to), mask_axis(pr), verts, tris)
                     };
                     out.sub_ok.push(ok);
                     from = to;
                 }
+                // Proven nodes become patches of their own, numbered after the pieces.
+                for &(a, b, pr) in &proven_nodes {
+                    extra.push((a, b, pr, node_bound(a, b).collect::<Vec<u32>>()));
+                }
             }
         }
         run = end;
+    }
+    for (a, b, pr, bound) in extra {
+        let id = out.patches.len() as u32;
+        out.patches.push((pr, bound));
+        for &p in &items[a..b] {
+            local[p as usize - start] = id;
+        }
+        let mut from = 0;
+        for (k, &e) in out.ends.iter().enumerate() {
+            let to = e as usize - start;
+            if a <= from && to <= b {
+                out.sub_patch[k] = id;
+            }
+            from = to;
+        }
     }
     out
 }
