@@ -17,6 +17,11 @@ bench/peers/build/glcol_peers --quick --no-gl --meshes "${MESHES:-../shared/mesh
 make -s -j2 -C bench/contact LIBDIR="${CARGO_TARGET_DIR:-$PWD/target}/release"
 bench/contact/build/contact_cost --meshes "${MESHES:-../shared/meshes}" --frames 2 --reps 1 --only colon >/dev/null 2>>"$tmp/log" \
   || { cat "$tmp/log"; exit 1; }
+# The whole-scene peers (bench-results/scene.md): 2 frames of each scene; it fails when the
+# pairs of Bullet or Embree (exact narrow phase) differ from glcollide's.
+make -s -j2 -C bench/scene_peers LIBDIR="${CARGO_TARGET_DIR:-$PWD/target}/release"
+bench/scene_peers/build/scene_peers --quick --meshes "${MESHES:-../shared/meshes}" >/dev/null 2>>"$tmp/log" \
+  || { cat "$tmp/log"; exit 1; }
 cargo bench --locked -q --bench parry -- "$tmp/scenes" "$tmp/parry.csv" 2>>"$tmp/log" || { cat "$tmp/log"; exit 1; }
 echo "smoke" >"$tmp/machine.txt"
 python3 bench/summarize.py "$tmp" >/dev/null
