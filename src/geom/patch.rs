@@ -86,21 +86,23 @@ pub fn mask_axis(mask: u8) -> u8 {
     mask.trailing_zeros() as u8 / 2
 }
 
-/// One boundary edge, projected.
+/// One boundary edge, projected, and its extent.
 #[derive(Clone, Copy)]
 struct Seg {
-    from: u32,
-    to: u32,
     a: [f64; 2],
     b: [f64; 2],
+    lo: [f64; 2],
+    hi: [f64; 2],
 }
 
 /// Scratch of the certificates (reused; no allocation once grown).
 #[derive(Default)]
 pub struct PatchCheck {
+    /// Boundary edges as (start vertex, `3 * triangle + edge`), sorted by start.
+    keys: Vec<(u32, u32)>,
     segs: Vec<Seg>,
     next: Vec<u32>,
-    by_x: Vec<u32>,
+    by_x: Vec<(f64, u32)>,
 }
 
 impl PatchCheck {
@@ -114,33 +116,27 @@ impl PatchCheck {
         tris: &[[P3; 3]],
     ) -> bool {
         let axis = axis as usize;
-        self.segs.clear();
-        for x in edges {
-            let (p, e) = (x as usize / 3, x as usize % 3);
-            let f = (e + 1) % 3;
-            self.segs.push(Seg {
-                from: verts[p][e],
-                to: verts[p][f],
-                a: drop_axis(&tris[p][e], axis),
-                b: drop_axis(&tris[p][f], axis),
-            });
-        }
-        let n = self.segs.len();
+        // One loop first, by vertex indices alone (cheap, and where most failures show):
+        // the edges sorted by their start, no start twice, and following each edge to the
+        // one starting at its end comes back to the first after all `n`.
+        self.keys.clear();
+        self.keys
+            .extend(edges.map(|x| (verts[x as usize / 3][x as usize % 3], x)));
+        let n = self.keys.len();
         if n < 3 {
             return false;
         }
-        // One loop: the edges sorted by their start, no start twice, and following each
-        // edge to the one starting at its end comes back to the first after all `n`.
-        self.segs.sort_unstable_by_key(|s| s.from);
-        if self.segs.windows(2).any(|w| w[0].from == w[1].from) {
+        self.keys.sort_unstable_by_key(|k| k.0);
+        if self.keys.windows(2).any(|w| w[0].0 == w[1].0) {
             return false;
         }
+        let to = |x: u32| verts[x as usize / 3][(x as usize % 3 + 1) % 3];
         self.next.clear();
         self.next.resize(n, 0);
         let mut at = 0usize;
         for step in 1..=n {
-            let to = self.segs[at].to;
-            let Ok(nx) = self.segs.binary_search_by_key(&to, |s| s.from) else {
+            let end = to(self.keys[at].1);
+            let Ok(nx) = self.keys.binary_search_by_key(&end, |k| k.0) else {
                 return false;
             };
             self.next[at] = nx as u32;
@@ -155,24 +151,38 @@ impl PatchCheck {
         if at != 0 {
             return false;
         }
+        self.segs.clear();
+        for &(_, x) in &self.keys {
+            let (p, e) = (x as usize / 3, x as usize % 3);
+            let (a, b) = (
+                drop_axis(&tris[p][e], axis),
+                drop_axis(&tris[p][(e + 1) % 3], axis),
+            );
+            self.segs.push(Seg {
+                a,
+                b,
+                lo: [a[0].min(b[0]), a[1].min(b[1])],
+                hi: [a[0].max(b[0]), a[1].max(b[1])],
+            });
+        }
         // Simplicity: a sweep along the first coordinate over the edges' extents.
-        let lo = |s: &Seg, k: usize| s.a[k].min(s.b[k]);
-        let hi = |s: &Seg, k: usize| s.a[k].max(s.b[k]);
         self.by_x.clear();
-        self.by_x.extend(0..n as u32);
+        self.by_x.extend(
+            self.segs
+                .iter()
+                .enumerate()
+                .map(|(i, g)| (g.lo[0], i as u32)),
+        );
+        self.by_x.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
         let segs = &self.segs;
-        self.by_x.sort_unstable_by(|&i, &j| {
-            lo(&segs[i as usize], 0).total_cmp(&lo(&segs[j as usize], 0))
-        });
-        for (ii, &i) in self.by_x.iter().enumerate() {
+        for (ii, &(_, i)) in self.by_x.iter().enumerate() {
             let s = &segs[i as usize];
-            let (sx, sy0, sy1) = (hi(s, 0), lo(s, 1), hi(s, 1));
-            for &j in &self.by_x[ii + 1..] {
-                let t = &segs[j as usize];
-                if lo(t, 0) > sx {
+            for &(tx, j) in &self.by_x[ii + 1..] {
+                if tx > s.hi[0] {
                     break;
                 }
-                if lo(t, 1) > sy1 || hi(t, 1) < sy0 {
+                let t = &segs[j as usize];
+                if t.lo[1] > s.hi[1] || t.hi[1] < s.lo[1] {
                     continue;
                 }
                 let bad = if self.next[i as usize] == j {
