@@ -1,7 +1,7 @@
 // Embree's whole-scene way (engines.hpp): the scene collided with itself.
 #include "engines.hpp"
 
-#include <embree3/rtcore.h>
+#include "embree_geo.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,35 +10,13 @@
 namespace scene_peers {
 namespace {
 
-struct Geo {
-    const peers::Mesh *mesh = nullptr;
-    const double *v = nullptr;
-};
-
-void bounds_fn(const RTCBoundsFunctionArguments *args) {
-    const Geo *g = static_cast<const Geo *>(args->geometryUserPtr);
-    const uint32_t *t = &g->mesh->tri[3 * args->primID];
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int c = 0; c < 3; c++)
-        for (int k = 0; k < 3; k++) {
-            double x = g->v[3 * t[c] + k];
-            lo[k] = std::min(lo[k], x);
-            hi[k] = std::max(hi[k], x);
-        }
-    RTCBounds *b = args->bounds_o;
-    b->lower_x = std::nextafter(float(lo[0]), -INFINITY);
-    b->lower_y = std::nextafter(float(lo[1]), -INFINITY);
-    b->lower_z = std::nextafter(float(lo[2]), -INFINITY);
-    b->upper_x = std::nextafter(float(hi[0]), INFINITY);
-    b->upper_y = std::nextafter(float(hi[1]), INFINITY);
-    b->upper_z = std::nextafter(float(hi[2]), INFINITY);
-}
+using peers::EmbreeGeo;
 
 struct EmbreeScene : SceneEngine {
     RTCDevice dev = nullptr;
     RTCScene scene = nullptr;
     std::vector<RTCGeometry> geos;
-    std::vector<Geo> g;
+    std::vector<EmbreeGeo> g;
     std::vector<Pair> cand;
     std::string name() const override { return "Embree rtcCollide (one scene)"; }
     ~EmbreeScene() override {
@@ -65,7 +43,7 @@ struct EmbreeScene : SceneEngine {
             RTCGeometry geo = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(geo, unsigned(ms[i].ntri()));
             rtcSetGeometryUserData(geo, &g[i]);
-            rtcSetGeometryBoundsFunction(geo, bounds_fn, nullptr);
+            rtcSetGeometryBoundsFunction(geo, peers::embree_bounds, nullptr);
             rtcSetGeometryBuildQuality(geo, RTC_BUILD_QUALITY_REFIT);
             rtcCommitGeometry(geo);
             rtcAttachGeometryByID(scene, geo, unsigned(i));
@@ -88,7 +66,7 @@ struct EmbreeScene : SceneEngine {
         cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
         out.clear();
         for (const Pair &p : cand) {
-            const Geo &a = g[p.body_a], &b = g[p.body_b];
+            const EmbreeGeo &a = g[p.body_a], &b = g[p.body_b];
             if (peers::exact_tri_intersect(a.v, &a.mesh->tri[3 * p.tri_a], b.v, &b.mesh->tri[3 * p.tri_b]))
                 out.push_back(p);
         }

@@ -2,9 +2,7 @@
 // REFIT geometry quality under a LOW-quality scene (the two-level builder, which honours
 // REFIT), bounds rounded outward to float, rtcCollide candidates then an exact test (CGAL):
 // the sound configuration of ../shared/peers/REPORT.md §4. One thread (threads=1).
-#include "common.hpp"
-
-#include <embree3/rtcore.h>
+#include "embree_geo.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -12,29 +10,7 @@
 
 namespace peers {
 namespace {
-struct Geo {
-    const Mesh* mesh = nullptr;
-    const double* v = nullptr;
-};
-
-void bounds_fn(const RTCBoundsFunctionArguments* args) {
-    const Geo* g = static_cast<const Geo*>(args->geometryUserPtr);
-    const uint32_t* t = &g->mesh->tri[3 * args->primID];
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int c = 0; c < 3; c++)
-        for (int k = 0; k < 3; k++) {
-            double x = g->v[3 * t[c] + k];
-            lo[k] = std::min(lo[k], x);
-            hi[k] = std::max(hi[k], x);
-        }
-    RTCBounds* b = args->bounds_o;
-    b->lower_x = std::nextafter(float(lo[0]), -INFINITY);
-    b->lower_y = std::nextafter(float(lo[1]), -INFINITY);
-    b->lower_z = std::nextafter(float(lo[2]), -INFINITY);
-    b->upper_x = std::nextafter(float(hi[0]), INFINITY);
-    b->upper_y = std::nextafter(float(hi[1]), INFINITY);
-    b->upper_z = std::nextafter(float(hi[2]), INFINITY);
-}
+using Geo = EmbreeGeo;
 
 std::atomic<long long> g_bytes{0};
 bool monitor(void*, ssize_t bytes, bool) {
@@ -70,7 +46,7 @@ struct EmbreeEngine : Engine {
             geo[i] = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_USER);
             rtcSetGeometryUserPrimitiveCount(geo[i], unsigned(ms[i]->ntri()));
             rtcSetGeometryUserData(geo[i], &g[i]);
-            rtcSetGeometryBoundsFunction(geo[i], bounds_fn, nullptr);
+            rtcSetGeometryBoundsFunction(geo[i], embree_bounds, nullptr);
             rtcSetGeometryBuildQuality(geo[i], RTC_BUILD_QUALITY_REFIT);
             rtcCommitGeometry(geo[i]);
             rtcAttachGeometry(sc[i], geo[i]);
