@@ -533,14 +533,15 @@ impl Scene {
         match &self.pool {
             Some(pool) if !selfs.is_empty() => pool.install(|| {
                 use rayon::prelude::*;
-                preps
-                    .par_iter_mut()
-                    .zip(&selfs)
-                    .for_each(|(prep, &i)| prep.make(list[i as usize].mesh, h, true))
+                preps.par_iter_mut().zip(&selfs).for_each(|(prep, &i)| {
+                    let sm = &list[i as usize];
+                    prep.make(sm.id, sm.mesh, h, true)
+                })
             }),
             _ => {
                 for (prep, &i) in preps.iter_mut().zip(&selfs) {
-                    prep.make(list[i as usize].mesh, h, false);
+                    let sm = &list[i as usize];
+                    prep.make(sm.id, sm.mesh, h, false);
                 }
             }
         }

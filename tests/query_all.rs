@@ -347,3 +347,44 @@ fn tangled_real_cloth_self_pairs_against_brute_force() {
         }
     }
 }
+
+/// The self-collision layout (pieces, sub-leaf split, boundary loops) is made at a mesh's
+/// first query and kept: the certificates' exact tests must follow the positions of every
+/// later query. Real cloth -> tangled -> real -> tangled in one scene, each answer against
+/// brute force, threads 1 and 2.
+#[test]
+fn kept_layout_follows_the_mesh_between_queries() {
+    let real = (0..4)
+        .map(|p| sim_part("cloth-funnel", 227, p))
+        .max_by_key(|m| m.polygons())
+        .unwrap();
+    let mut tangled = real.clone();
+    let mut seed = 0x2545_F491_4F6C_DD1Du64;
+    for p in &mut tangled.pos {
+        for x in p.iter_mut() {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let r = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            *x = (f64::from(*x) + 0.02 * r) as f32;
+        }
+    }
+    let (want_real, want_tangled) = (brute_self(&real, 0.0), brute_self(&tangled, 0.0));
+    assert!(want_tangled.len() > 100, "{} pairs", want_tangled.len());
+    for threads in [1, 2] {
+        let mut s = scene(0.0, threads);
+        let id = add(&mut s, &real);
+        s.set_self_collision(id, true).unwrap();
+        for (round, (m, want)) in [(&real, &want_real), (&tangled, &want_tangled)]
+            .into_iter()
+            .cycle()
+            .take(4)
+            .enumerate()
+        {
+            s.update_positions(id, 0, Positions::from_points(&m.pos))
+                .unwrap();
+            let got = between(s.query_all().unwrap(), id, id);
+            assert_eq!(&got, want, "threads {threads}, round {round}");
+        }
+    }
+}

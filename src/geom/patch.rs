@@ -95,13 +95,22 @@ struct Seg {
     hi: [f64; 2],
 }
 
+/// A patch's boundary as one closed loop (conditions 2 of the certificate, which depend on
+/// vertex indices only, so a loop can be kept while the mesh moves): its edges
+/// (`3 * triangle + edge`) and, for each, the position of the edge that follows it.
+#[derive(Clone, Debug, Default)]
+pub struct Loop {
+    pub edges: Vec<u32>,
+    pub next: Vec<u32>,
+}
+
 /// Scratch of the certificates (reused; no allocation once grown).
 #[derive(Default)]
 pub struct PatchCheck {
     /// Boundary edges as (start vertex, `3 * triangle + edge`), sorted by start.
     keys: Vec<(u32, u32)>,
+    current: Loop,
     segs: Vec<Seg>,
-    next: Vec<u32>,
     by_x: Vec<(f64, u32)>,
 }
 
@@ -115,10 +124,30 @@ impl PatchCheck {
         verts: &[[u32; 4]],
         tris: &[[P3; 3]],
     ) -> bool {
-        let axis = axis as usize;
-        // One loop first, by vertex indices alone (cheap, and where most failures show):
-        // the edges sorted by their start, no start twice, and following each edge to the
-        // one starting at its end comes back to the first after all `n`.
+        let mut l = std::mem::take(&mut self.current);
+        let ok = self.chain(edges, verts, &mut l) && self.simple(&l, axis, tris);
+        self.current = l;
+        ok
+    }
+
+    /// Condition 2b alone: the loop the boundary edges `edges` chain into, if one.
+    pub fn boundary_loop(
+        &mut self,
+        edges: impl Iterator<Item = u32>,
+        verts: &[[u32; 4]],
+    ) -> Option<Loop> {
+        let mut l = Loop::default();
+        self.chain(edges, verts, &mut l).then_some(l)
+    }
+
+    /// The edges sorted by their start, no start twice, and following each edge to the
+    /// one starting at its end comes back to the first after all of them: into `l`.
+    fn chain(
+        &mut self,
+        edges: impl Iterator<Item = u32>,
+        verts: &[[u32; 4]],
+        l: &mut Loop,
+    ) -> bool {
         self.keys.clear();
         self.keys
             .extend(edges.map(|x| (verts[x as usize / 3][x as usize % 3], x)));
@@ -131,15 +160,15 @@ impl PatchCheck {
             return false;
         }
         let to = |x: u32| verts[x as usize / 3][(x as usize % 3 + 1) % 3];
-        self.next.clear();
-        self.next.resize(n, 0);
+        l.next.clear();
+        l.next.resize(n, 0);
         let mut at = 0usize;
         for step in 1..=n {
             let end = to(self.keys[at].1);
             let Ok(nx) = self.keys.binary_search_by_key(&end, |k| k.0) else {
                 return false;
             };
-            self.next[at] = nx as u32;
+            l.next[at] = nx as u32;
             at = nx;
             if at == 0 {
                 if step != n {
@@ -151,8 +180,16 @@ impl PatchCheck {
         if at != 0 {
             return false;
         }
+        l.edges.clear();
+        l.edges.extend(self.keys.iter().map(|k| k.1));
+        true
+    }
+
+    /// Condition 3: loop `l` projected along `axis` is a simple polygon (exact).
+    pub fn simple(&mut self, l: &Loop, axis: u8, tris: &[[P3; 3]]) -> bool {
+        let axis = axis as usize;
         self.segs.clear();
-        for &(_, x) in &self.keys {
+        for &x in &l.edges {
             let (p, e) = (x as usize / 3, x as usize % 3);
             let (a, b) = (
                 drop_axis(&tris[p][e], axis),
@@ -165,7 +202,7 @@ impl PatchCheck {
                 hi: [a[0].max(b[0]), a[1].max(b[1])],
             });
         }
-        // Simplicity: a sweep along the first coordinate over the edges' extents.
+        // A sweep along the first coordinate over the edges' extents.
         self.by_x.clear();
         self.by_x.extend(
             self.segs
@@ -185,9 +222,9 @@ impl PatchCheck {
                 if t.lo[1] > s.hi[1] || t.hi[1] < s.lo[1] {
                     continue;
                 }
-                let bad = if self.next[i as usize] == j {
+                let bad = if l.next[i as usize] == j {
                     folds_back(s.a, s.b, t.b)
-                } else if self.next[j as usize] == i {
+                } else if l.next[j as usize] == i {
                     folds_back(t.a, t.b, s.b)
                 } else {
                     segments_meet(s.a, s.b, t.a, t.b)

@@ -16,7 +16,7 @@ use crate::backend::Pair;
 use crate::geom::adjacent::{
     adjacent_polygons_meet, shares_vertex, triangles_touch_only_at_joint_planes,
 };
-use crate::geom::patch::{mask_axis, turn_mask, PatchCheck, NONE};
+use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
 use crate::geom::tritri::Plane;
@@ -99,34 +99,53 @@ fn common_turns(ids: &mut dyn Iterator<Item = usize>, turns: &[u8]) -> u8 {
     m
 }
 
-/// What [`leaf_work`] found of one leaf: its sub-leaves' end positions in the leaf order
-/// and their patches (numbered within the leaf), its patches' certificates and boundaries,
-/// and which sub-leaves are proven on their own.
-struct LeafOut {
+/// What of one leaf depends on vertex indices alone (its connected pieces and each candidate
+/// patch's boundary loop) or was fixed when it was first made (the sub-leaf split, from that
+/// query's positions; later queries refit its boxes, as the leaves themselves are refit):
+/// kept from query to query for one mesh.
+struct LeafLayout {
+    /// Sub-leaf ends (positions in the leaf order) and each sub-leaf's piece (within the
+    /// leaf).
     ends: Vec<u32>,
+    sub_piece: Vec<u32>,
+    pieces: Vec<PieceLayout>,
+}
+
+/// One connected piece of a leaf: its range of the leaf's polygons (positions from the
+/// leaf's start), boundary loop, the inner nodes of its sub-leaf split below it (parents
+/// first) with their loops, and its sub-leaves (indices into `ends`) with theirs.
+struct PieceLayout {
+    range: (usize, usize),
+    boundary: Option<Loop>,
+    nodes: Vec<((usize, usize), Option<Loop>)>,
+    subs: std::ops::Range<usize>,
+    sub_loops: Vec<Option<Loop>>,
+}
+
+/// What [`leaf_certify`] proved of one leaf this query: each sub-leaf's patch (numbered
+/// within the leaf: pieces first, then proven nodes), the patches' projections (0: not
+/// proven) and boundaries, and which sub-leaves are proven on their own.
+struct LeafOut {
     sub_patch: Vec<u32>,
     patches: Vec<(u8, Vec<u32>)>,
     sub_ok: Vec<bool>,
 }
 
-/// One leaf of a self-colliding mesh: `items` (its polygons, positions `start..` of the
-/// leaf order) are grouped by connected piece (shared edges, from the twins `tw`; one
-/// piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by median
-/// splits of the box centres along the widest axis; `local` gets each polygon's piece. Each
-/// piece is then tried as a patch ([`crate::geom::patch`]), and the sub-leaves of the
-/// pieces that fail, on their own.
+/// The layout of one leaf of a self-colliding mesh: `items` (its polygons, positions
+/// `start..` of the leaf order) are grouped by connected piece (shared edges, from the twins
+/// `tw`; one piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by
+/// median splits of the box centres along the widest axis; `local` gets each polygon's piece;
+/// then the boundary loop of every candidate patch (piece, inner node, sub-leaf).
 #[allow(clippy::too_many_arguments)]
-fn leaf_work(
+fn leaf_layout(
     start: usize,
     items: &mut [u32],
     local: &mut [u32],
     pb: &[Aabb],
     tw: Option<&[u32]>,
-    tris: &[[P3; 3]],
     verts: &[[u32; 4]],
-    turns: &[u8],
     check: &mut PatchCheck,
-) -> LeafOut {
+) -> LeafLayout {
     let len = items.len();
     let inside = |t: u32| (t as usize).wrapping_sub(start) < len;
     // Connected pieces: union-find over the shared edges inside the leaf.
@@ -164,19 +183,13 @@ fn leaf_work(
         1
     };
     items.sort_unstable_by_key(|&p| local[p as usize - start]);
-    let mut out = LeafOut {
+    let mut out = LeafLayout {
         ends: Vec::with_capacity(len / (SUB_LEAF / 2) + pieces + 1),
-        sub_patch: Vec::new(),
-        patches: Vec::with_capacity(pieces),
-        sub_ok: Vec::new(),
+        sub_piece: Vec::new(),
+        pieces: Vec::with_capacity(pieces),
     };
     let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
     let mut stack = Vec::new();
-    // The split's inner nodes (ranges of `items`, parents before children) and each
-    // polygon's position in `items` (filled for pieces that fail).
-    let mut nodes: Vec<(usize, usize)> = Vec::new();
-    let mut pos_of: Vec<u32> = Vec::new();
-    let mut extra = Vec::new();
     let mut run = 0;
     while run < len {
         let c = local[items[run] as usize - start];
@@ -186,16 +199,19 @@ fn leaf_work(
                 .take_while(|&&p| local[p as usize - start] == c)
                 .count();
         let first_sub = out.ends.len();
+        let mut nodes = Vec::new();
         // Depth-first, left half first: sub-leaves come out in order.
         stack.push((run, end));
-        nodes.clear();
         while let Some((a, b)) = stack.pop() {
             if b - a <= SUB_LEAF {
                 out.ends.push((start + b) as u32);
-                out.sub_patch.push(c);
+                out.sub_piece.push(c);
                 continue;
             }
-            nodes.push((a, b));
+            // The first node is the piece itself.
+            if a != run || b != end {
+                nodes.push(((a, b), None));
+            }
             let part = &mut items[a..b];
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
             for &p in part.iter() {
@@ -219,106 +235,141 @@ fn leaf_work(
             stack.push((a + mid, b));
             stack.push((a, a + mid));
         }
-        let subs = out.ends.len() - first_sub;
-        let Some(tw) = tw else {
-            out.patches.push((0, Vec::new()));
-            out.sub_ok.extend(std::iter::repeat_n(false, subs));
-            run = end;
-            continue;
-        };
-        // The piece as a patch: triangles `items[run..end]`, boundary edges those whose twin
-        // is in no triangle of it.
-        let ids = items[run..end].iter().map(|&p| p as usize);
-        let in_piece = |t: u32| t != NONE && inside(t) && local[t as usize - start] == c;
-        let mask = |ids: &mut dyn Iterator<Item = usize>| common_turns(ids, turns);
-        let proven = Some(mask(&mut ids.clone()))
-            .filter(|&m| m != 0)
-            .and_then(|pr| {
-                let bound: Vec<u32> = ids
-                    .clone()
-                    .flat_map(|p| 3 * p..3 * p + 3)
-                    .filter(|&x| !in_piece(tw[x]))
-                    .map(|x| x as u32)
-                    .collect();
-                check
-                    .simple_loop(bound.iter().copied(), mask_axis(pr), verts, tris)
-                    .then_some((pr, bound))
-            });
-        match proven {
-            Some((pr, bound)) => {
-                out.patches.push((pr, bound));
-                out.sub_ok.extend(std::iter::repeat_n(false, subs));
-            }
-            None => {
-                out.patches.push((0, Vec::new()));
-                // Its halves, quarters... (the split's nodes, largest first), then the
-                // sub-leaves no proven node holds, each as a patch of its own.
-                if pos_of.len() < len {
-                    pos_of.resize(len, 0);
-                }
-                for (at, &p) in items.iter().enumerate().take(end).skip(run) {
-                    pos_of[p as usize - start] = at as u32;
-                }
-                let pos_of = &pos_of;
-                let node_bound = |a: usize, b: usize| {
-                    let within = move |t: u32| {
-                        t != NONE
-                            && inside(t)
-                            && (a..b).contains(&(pos_of[t as usize - start] as usize))
-                    };
-                    items[a..b]
-                        .iter()
-                        .flat_map(|&p| 3 * p as usize..3 * p as usize + 3)
-                        .filter(move |&x| !within(tw[x]))
-                        .map(|x| x as u32)
-                };
-                let mut proven_nodes = Vec::new();
-                let mut covered = run;
-                // The first node is the piece itself, just refused.
-                for &(a, b) in nodes.iter().skip(1) {
-                    if a < covered {
-                        continue;
-                    }
-                    let pr = mask(&mut items[a..b].iter().map(|&p| p as usize));
-                    if pr != 0 && check.simple_loop(node_bound(a, b), mask_axis(pr), verts, tris) {
-                        proven_nodes.push((a, b, pr));
-                        covered = b;
-                    }
-                }
-                let mut from = run;
-                let mut next_node = 0;
-                for k in 0..subs {
-                    let to = out.ends[first_sub + k] as usize - start;
-                    while next_node < proven_nodes.len() && proven_nodes[next_node].1 <= from {
-                        next_node += 1;
-                    }
-                    let in_node = proven_nodes
-                        .get(next_node)
-                        .is_some_and(|&(a, b, _)| a <= from && to <= b);
-                    let ok = !in_node && {
-                        let pr = mask(&mut items[from..to].iter().map(|&p| p as usize));
-                        pr != 0
-                            && check.simple_loop(node_bound(from, to), mask_axis(pr), verts, tris)
-                    };
-                    out.sub_ok.push(ok);
-                    from = to;
-                }
-                // Proven nodes become patches of their own, numbered after the pieces.
-                for &(a, b, pr) in &proven_nodes {
-                    extra.push((a, b, pr, node_bound(a, b).collect::<Vec<u32>>()));
-                }
-            }
-        }
+        let subs = first_sub..out.ends.len();
+        out.pieces.push(PieceLayout {
+            range: (run, end),
+            boundary: None,
+            nodes,
+            sub_loops: vec![None; subs.len()],
+            subs,
+        });
         run = end;
     }
-    for (a, b, pr, bound) in extra {
+    let Some(tw) = tw else {
+        return out;
+    };
+    // Each polygon's position in `items`; a candidate's boundary: the edges whose twin lies
+    // outside its range.
+    let mut pos_of = vec![0u32; len];
+    for (at, &p) in items.iter().enumerate() {
+        pos_of[p as usize - start] = at as u32;
+    }
+    let pos_of = &pos_of;
+    let bound = |a: usize, b: usize| {
+        let within = move |t: u32| {
+            t != NONE && inside(t) && (a..b).contains(&(pos_of[t as usize - start] as usize))
+        };
+        items[a..b]
+            .iter()
+            .flat_map(|&p| 3 * p as usize..3 * p as usize + 3)
+            .filter(move |&x| !within(tw[x]))
+            .map(|x| x as u32)
+    };
+    for piece in &mut out.pieces {
+        let (a, b) = piece.range;
+        piece.boundary = check.boundary_loop(bound(a, b), verts);
+        for (r, l) in &mut piece.nodes {
+            *l = check.boundary_loop(bound(r.0, r.1), verts);
+        }
+        let mut from = a;
+        for (k, l) in piece.subs.clone().zip(&mut piece.sub_loops) {
+            let to = out.ends[k] as usize - start;
+            *l = check.boundary_loop(bound(from, to), verts);
+            from = to;
+        }
+    }
+    out
+}
+
+/// This query's certificates of one leaf laid out as `lay` (`items`: its polygons in leaf
+/// order from `start`; `local`: each polygon's piece, overwritten with its proven node's
+/// patch number where one is): each piece is tried as a patch ([`crate::geom::patch`]);
+/// where one fails, the nodes of its split (halves, quarters..., largest first), then the
+/// sub-leaves no proven node holds, each on its own.
+fn leaf_certify(
+    lay: &LeafLayout,
+    start: usize,
+    items: &[u32],
+    local: &mut [u32],
+    tris: &[[P3; 3]],
+    turns: &[u8],
+    check: &mut PatchCheck,
+) -> LeafOut {
+    let mut out = LeafOut {
+        sub_patch: lay.sub_piece.clone(),
+        patches: Vec::with_capacity(lay.pieces.len()),
+        sub_ok: vec![false; lay.ends.len()],
+    };
+    let proves = |check: &mut PatchCheck, a: usize, b: usize, l: &Option<Loop>| -> u8 {
+        let Some(l) = l else {
+            return 0;
+        };
+        let m = common_turns(&mut items[a..b].iter().map(|&p| p as usize), turns);
+        if m != 0 && check.simple(l, mask_axis(m), tris) {
+            m
+        } else {
+            0
+        }
+    };
+    let mut nodes = Vec::new();
+    for piece in &lay.pieces {
+        let (a, b) = piece.range;
+        let m = proves(check, a, b, &piece.boundary);
+        if m != 0 {
+            out.patches.push((
+                m,
+                piece
+                    .boundary
+                    .as_ref()
+                    .map_or(Vec::new(), |l| l.edges.clone()),
+            ));
+            continue;
+        }
+        out.patches.push((0, Vec::new()));
+        if piece.boundary.is_none()
+            && piece.nodes.is_empty()
+            && piece.sub_loops.iter().all(Option::is_none)
+        {
+            continue;
+        }
+        let first_node = nodes.len();
+        let mut covered = a;
+        for ((na, nb), l) in &piece.nodes {
+            if *na < covered {
+                continue;
+            }
+            let m = proves(check, *na, *nb, l);
+            if m != 0 {
+                nodes.push((
+                    *na,
+                    *nb,
+                    m,
+                    l.as_ref().map_or(Vec::new(), |l| l.edges.clone()),
+                ));
+                covered = *nb;
+            }
+        }
+        let mut from = a;
+        let mut next = first_node;
+        for (k, l) in piece.subs.clone().zip(&piece.sub_loops) {
+            let to = lay.ends[k] as usize - start;
+            while next < nodes.len() && nodes[next].1 <= from {
+                next += 1;
+            }
+            let held = nodes.get(next).is_some_and(|n| n.0 <= from && to <= n.1);
+            out.sub_ok[k] = !held && proves(check, from, to, l) != 0;
+            from = to;
+        }
+    }
+    // Proven nodes become patches of their own, numbered after the pieces.
+    for (a, b, m, edges) in nodes {
         let id = out.patches.len() as u32;
-        out.patches.push((pr, bound));
+        out.patches.push((m, edges));
         for &p in &items[a..b] {
             local[p as usize - start] = id;
         }
         let mut from = 0;
-        for (k, &e) in out.ends.iter().enumerate() {
+        for (k, &e) in lay.ends.iter().enumerate() {
             let to = e as usize - start;
             if a <= from && to <= b {
                 out.sub_patch[k] = id;
@@ -376,6 +427,11 @@ pub struct SelfPrep {
     patch_bound: Vec<u32>,
     patch_bound_start: Vec<u32>,
     sub_cert: Vec<bool>,
+    /// The layout of each leaf ([`LeafLayout`]), each polygon's piece within its leaf, and
+    /// the mesh (id, polygons, leaves) they were made for.
+    layouts: Vec<LeafLayout>,
+    piece_of: Vec<u32>,
+    layout_key: Option<(u32, usize, usize)>,
     /// Patches proven by their certificate in the last [`SelfPrep::make`].
     pub certified_patches: usize,
     /// Sub-leaves proven on their own (in patches not proven whole).
@@ -390,7 +446,7 @@ impl SelfPrep {
     /// With `par` (the caller runs inside the scene's worker pool), a big mesh's
     /// per-polygon and per-leaf work is shared between the workers: for a scene of one big
     /// cloth this runs before any task and would otherwise keep the other cores idle.
-    pub fn make(&mut self, m: &Mesh, h: f64, par: bool) {
+    pub fn make(&mut self, id: u32, m: &Mesh, h: f64, par: bool) {
         use rayon::prelude::*;
         let n = m.polygon_count();
         let par = par && n >= PAR_MIN;
@@ -440,46 +496,82 @@ impl SelfPrep {
                 self.turns.extend(self.tris.iter().map(turn_mask));
             }
         }
-        self.order.clear();
-        self.order.extend(0..n as u32);
+        // The layout (pieces, sub-leaf split, boundary loops) is made at the first query of
+        // this mesh and kept: later queries refit the sub-leaves' boxes and redo only the
+        // certificates' exact tests on the new positions.
+        let key = (id, n, m.leaf_count());
+        let leaf_range = |l: usize| m.leaves.polys(l);
+        if self.layout_key != Some(key) {
+            self.order.clear();
+            self.order.extend(0..n as u32);
+            self.piece_of.clear();
+            self.piece_of.resize(n, 0);
+            let (verts, pb) = (&self.verts[..], &self.poly_boxes[..]);
+            let mut slices = Vec::with_capacity(m.leaf_count());
+            let (mut rest, mut rest_piece) = (&mut self.order[..], &mut self.piece_of[..]);
+            for l in 0..m.leaf_count() {
+                let r = leaf_range(l);
+                debug_assert_eq!(
+                    r.start,
+                    n - rest.len(),
+                    "leaves cover the polygons in order"
+                );
+                let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
+                let (this_p, tail_p) = std::mem::take(&mut rest_piece).split_at_mut(r.len());
+                slices.push((r.start, this, this_p));
+                rest = tail;
+                rest_piece = tail_p;
+            }
+            let lay =
+                |check: &mut PatchCheck, (start, items, local): (usize, &mut [u32], &mut [u32])| {
+                    leaf_layout(start, items, local, pb, tw, verts, check)
+                };
+            self.layouts = if par {
+                slices
+                    .into_par_iter()
+                    .map_init(PatchCheck::default, lay)
+                    .collect()
+            } else {
+                let mut check = PatchCheck::default();
+                slices.into_iter().map(|x| lay(&mut check, x)).collect()
+            };
+            self.sub_start.clear();
+            self.sub_start.push(0);
+            self.leaf_sub.clear();
+            self.leaf_sub.push(0);
+            for lay in &self.layouts {
+                self.sub_start.extend(&lay.ends);
+                self.leaf_sub.push(self.sub_start.len() as u32 - 1);
+            }
+            self.layout_key = Some(key);
+        }
         self.patch_of.clear();
-        self.patch_of.resize(n, 0);
-        // Each leaf on its own (disjoint ranges of `order` and `patch_of`): its connected
-        // pieces, their sub-leaves and certificates; results come back leaf by leaf.
-        let (tris, verts, pb) = (&self.tris[..], &self.verts[..], &self.poly_boxes[..]);
-        let turns = &self.turns[..];
+        self.patch_of.extend_from_slice(&self.piece_of);
+        let (tris, turns, order) = (&self.tris[..], &self.turns[..], &self.order[..]);
+        let layouts = &self.layouts;
         let mut slices = Vec::with_capacity(m.leaf_count());
-        let (mut rest, mut rest_patch) = (&mut self.order[..], &mut self.patch_of[..]);
+        let mut rest_patch = &mut self.patch_of[..];
         for l in 0..m.leaf_count() {
-            let r = m.leaves.polys(l);
-            debug_assert_eq!(
-                r.start,
-                n - rest.len(),
-                "leaves cover the polygons in order"
-            );
-            let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
+            let r = leaf_range(l);
             let (this_p, tail_p) = std::mem::take(&mut rest_patch).split_at_mut(r.len());
-            slices.push((r.start, this, this_p));
-            rest = tail;
+            slices.push((l, r, this_p));
             rest_patch = tail_p;
         }
-        let work = |check: &mut PatchCheck,
-                    (start, items, local): (usize, &mut [u32], &mut [u32])| {
-            leaf_work(start, items, local, pb, tw, tris, verts, turns, check)
+        let cert = |check: &mut PatchCheck,
+                    (l, r, local): (usize, std::ops::Range<usize>, &mut [u32])| {
+            leaf_certify(&layouts[l], r.start, &order[r], local, tris, turns, check)
         };
-        let outs: Vec<LeafOut> = if par {
+        let outs: Vec<LeafOut> = if !certify {
+            Vec::new()
+        } else if par {
             slices
                 .into_par_iter()
-                .map_init(PatchCheck::default, work)
+                .map_init(PatchCheck::default, cert)
                 .collect()
         } else {
             let mut check = PatchCheck::default();
-            slices.into_iter().map(|x| work(&mut check, x)).collect()
+            slices.into_iter().map(|x| cert(&mut check, x)).collect()
         };
-        self.sub_start.clear();
-        self.sub_start.push(0);
-        self.leaf_sub.clear();
-        self.leaf_sub.push(0);
         self.sub_patch.clear();
         self.sub_cert.clear();
         self.patch_cert.clear();
@@ -487,13 +579,25 @@ impl SelfPrep {
         self.patch_bound_start.clear();
         self.patch_bound_start.push(0);
         (self.certified_patches, self.certified_subs) = (0, 0);
+        if !certify {
+            // No certificate: every leaf one unproven patch.
+            for (l, lay) in self.layouts.iter().enumerate() {
+                self.sub_patch
+                    .extend(std::iter::repeat_n(l as u32, lay.ends.len()));
+                self.sub_cert
+                    .extend(std::iter::repeat_n(false, lay.ends.len()));
+                self.patch_cert.push(0);
+                self.patch_bound_start.push(0);
+                for x in &mut self.patch_of[leaf_range(l)] {
+                    *x = l as u32;
+                }
+            }
+        }
         for (l, out) in outs.into_iter().enumerate() {
             let first = self.patch_cert.len() as u32;
-            for x in &mut self.patch_of[m.leaves.polys(l)] {
+            for x in &mut self.patch_of[leaf_range(l)] {
                 *x += first;
             }
-            self.sub_start.extend(out.ends);
-            self.leaf_sub.push(self.sub_start.len() as u32 - 1);
             self.sub_patch
                 .extend(out.sub_patch.iter().map(|&c| c + first));
             self.certified_subs += out.sub_ok.iter().filter(|&&x| x).count();
