@@ -99,6 +99,25 @@ fn common_turns(ids: &mut dyn Iterator<Item = usize>, turns: &[u8]) -> u8 {
     m
 }
 
+/// `f` over `items` with a [`PatchCheck`] scratch per worker: shared between the scene's
+/// workers when `par` (the caller runs inside its pool), else on this thread.
+fn map_checked<I: Send, O: Send>(
+    items: Vec<I>,
+    par: bool,
+    f: impl Fn(&mut PatchCheck, I) -> O + Sync + Send,
+) -> Vec<O> {
+    use rayon::prelude::*;
+    if par {
+        items
+            .into_par_iter()
+            .map_init(PatchCheck::default, f)
+            .collect()
+    } else {
+        let mut check = PatchCheck::default();
+        items.into_iter().map(|x| f(&mut check, x)).collect()
+    }
+}
+
 /// What of one leaf depends on vertex indices alone (its connected pieces and each candidate
 /// patch's boundary loop) or was fixed when it was first made (the sub-leaf split, from that
 /// query's positions; later queries refit its boxes, as the leaves themselves are refit):
@@ -526,15 +545,7 @@ impl SelfPrep {
                 |check: &mut PatchCheck, (start, items, local): (usize, &mut [u32], &mut [u32])| {
                     leaf_layout(start, items, local, pb, tw, verts, check)
                 };
-            self.layouts = if par {
-                slices
-                    .into_par_iter()
-                    .map_init(PatchCheck::default, lay)
-                    .collect()
-            } else {
-                let mut check = PatchCheck::default();
-                slices.into_iter().map(|x| lay(&mut check, x)).collect()
-            };
+            self.layouts = map_checked(slices, par, lay);
             self.sub_start.clear();
             self.sub_start.push(0);
             self.leaf_sub.clear();
@@ -561,16 +572,10 @@ impl SelfPrep {
                     (l, r, local): (usize, std::ops::Range<usize>, &mut [u32])| {
             leaf_certify(&layouts[l], r.start, &order[r], local, tris, turns, check)
         };
-        let outs: Vec<LeafOut> = if !certify {
-            Vec::new()
-        } else if par {
-            slices
-                .into_par_iter()
-                .map_init(PatchCheck::default, cert)
-                .collect()
+        let outs: Vec<LeafOut> = if certify {
+            map_checked(slices, par, cert)
         } else {
-            let mut check = PatchCheck::default();
-            slices.into_iter().map(|x| cert(&mut check, x)).collect()
+            Vec::new()
         };
         self.sub_patch.clear();
         self.sub_cert.clear();
