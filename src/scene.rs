@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
-use crate::geom::contact::{contact_geometry, ContactGeometry};
+use crate::geom::contact::{contact_geometry, contact_geometry_intersecting, ContactGeometry};
 use crate::geom::P3;
 use crate::mesh::{Mesh, Positions};
 use crate::query::all::{self as whole, AllStats, BroadPhase, SceneMesh, SelfPrep, SelfScratch};
@@ -684,7 +684,8 @@ impl Scene {
     /// (create, update, enable, destroy, filter, self-collision, GL buffer binding);
     /// Unsupported when a mesh of the answer reads its positions from a GL buffer.
     pub fn contact_geometry(&mut self) -> Result<&[ContactGeometry]> {
-        let items: Vec<(MeshId, u32, MeshId, u32)> = match self.last {
+        let last = self.last;
+        let n = match last {
             LastQuery::None => {
                 return Err(Error::invalid(
                     "no contact geometry: there was no successful glcol_query or \
@@ -692,28 +693,22 @@ impl Scene {
                      query last failed",
                 ))
             }
-            LastQuery::One(r) => self
-                .contacts
-                .iter()
-                .map(|c| (r, c.reference_polygon, c.other_mesh, c.other_polygon))
-                .collect(),
-            LastQuery::All => self
-                .pairs
-                .iter()
-                .map(|p| (p.mesh_a, p.polygon_a, p.mesh_b, p.polygon_b))
-                .collect(),
+            LastQuery::One(_) => self.contacts.len(),
+            LastQuery::All => self.pairs.len(),
         };
-        if self.geometry.len() == items.len() && !items.is_empty() {
+        if self.geometry.len() == n && n > 0 {
             return Ok(&self.geometry);
         }
-        // Each mesh once (the pairs of an answer come from a few meshes, in runs).
-        let mut checked = None;
-        for &(a, _, b, _) in &items {
-            for id in [a, b] {
-                if checked == Some(id) {
+        // Each mesh once per run of pairs (the pairs of an answer come from a few meshes,
+        // in runs).
+        let mut checked = [None; 2];
+        for k in 0..n {
+            let (a, _, b, _) = item(last, &self.contacts, &self.pairs, k);
+            for (side, id) in [a, b].into_iter().enumerate() {
+                if checked[side] == Some(id) {
                     continue;
                 }
-                checked = Some(id);
+                checked[side] = Some(id);
                 if self.selector.gl_bound(id) {
                     return Err(Error::new(
                         ErrorKind::Unsupported,
@@ -725,65 +720,46 @@ impl Scene {
                 }
             }
         }
-        if items.len() > 256 {
+        if n > PAR_GEOMETRY {
             self.start_workers()?;
         }
-        let mut out = Vec::new();
-        try_reserve(&mut out, items.len(), "the contact geometry")?;
-        let meshes = &self.meshes;
-        // The last mesh looked up for each side, since consecutive pairs mostly share them.
-        type Last<'m> = [Option<(MeshId, &'m Mesh)>; 2];
-        fn get<'m>(
-            meshes: &'m BTreeMap<MeshId, Mesh>,
-            last: &mut Last<'m>,
-            side: usize,
-            id: MeshId,
-        ) -> Result<&'m Mesh> {
-            match last[side] {
-                Some((at, m)) if at == id => Ok(m),
-                _ => {
-                    let m = meshes.get(&id).ok_or_else(|| unknown(id))?;
-                    last[side] = Some((id, m));
-                    Ok(m)
-                }
+        let mut out = std::mem::take(&mut self.geometry);
+        out.clear();
+        try_reserve(&mut out, n, "the contact geometry")?;
+        out.resize(n, UNSET);
+        // At epsilon 0 every pair of the answer intersects (the exact test decided it, on
+        // every backend), so the geometry skips that test and takes four triangle pairs
+        // at a time.
+        let known = self.config.epsilon == 0.0;
+        let (meshes, contacts, pairs) = (&self.meshes, &self.contacts, &self.pairs);
+        // Entries `out` from pair `base` on.
+        let fill = |out: &mut [ContactGeometry], base: usize| -> Result<()> {
+            let mut seen: Last = [None; 2];
+            let mut fetch = |i: usize, ta: &mut [[P3; 3]; 2], tb: &mut [[P3; 3]; 2]| {
+                let (a, pa, b, pb) = item(last, contacts, pairs, base + i);
+                let na = polygon(meshes, &mut seen, 0, a, pa, ta)?;
+                let nb = polygon(meshes, &mut seen, 1, b, pb, tb)?;
+                Ok((na, nb))
+            };
+            if known {
+                return contact_geometry_intersecting(out, fetch);
             }
-        }
-        fn one<'m>(
-            meshes: &'m BTreeMap<MeshId, Mesh>,
-            last: &mut Last<'m>,
-            &(a, pa, b, pb): &(MeshId, u32, MeshId, u32),
-        ) -> Result<ContactGeometry> {
             let mut ta = [[P3::default(); 3]; 2];
             let mut tb = [[P3::default(); 3]; 2];
-            let ma = get(meshes, last, 0, a)?;
-            let mb = get(meshes, last, 1, b)?;
-            let bad =
-                |m, p| Error::new(ErrorKind::Internal, format!("mesh {m} has no polygon {p}"));
-            let na = ma
-                .polygon_triangles(pa, &mut ta)
-                .ok_or_else(|| bad(a, pa))?;
-            let nb = mb
-                .polygon_triangles(pb, &mut tb)
-                .ok_or_else(|| bad(b, pb))?;
-            Ok(contact_geometry(&ta, na, &tb, nb))
-        }
+            for (i, g) in out.iter_mut().enumerate() {
+                let (na, nb) = fetch(i, &mut ta, &mut tb)?;
+                *g = contact_geometry(&ta, na, &tb, nb);
+            }
+            Ok(())
+        };
         match &self.pool {
-            Some(pool) if items.len() > 256 => {
-                let found: Result<Vec<ContactGeometry>> = pool.install(|| {
-                    use rayon::prelude::*;
-                    items
-                        .par_iter()
-                        .map_init(|| [None; 2], |last, it| one(meshes, last, it))
-                        .collect()
-                });
-                out = found?;
-            }
-            _ => {
-                let mut last = [None; 2];
-                for it in &items {
-                    out.push(one(meshes, &mut last, it)?);
-                }
-            }
+            Some(pool) if n > PAR_GEOMETRY => pool.install(|| {
+                use rayon::prelude::*;
+                out.par_chunks_mut(GEOMETRY_CHUNK)
+                    .enumerate()
+                    .try_for_each(|(c, chunk)| fill(chunk, c * GEOMETRY_CHUNK))
+            })?,
+            _ => fill(&mut out, 0)?,
         }
         self.geometry = out;
         Ok(&self.geometry)
@@ -799,6 +775,66 @@ impl Scene {
     pub fn stats(&self) -> QueryStats {
         self.workspace.stats
     }
+}
+
+/// Contact geometry is shared between the workers above this many pairs, in chunks of
+/// `GEOMETRY_CHUNK`.
+const PAR_GEOMETRY: usize = 256;
+const GEOMETRY_CHUNK: usize = 64;
+
+/// A placeholder, overwritten before anyone sees it.
+const UNSET: ContactGeometry = ContactGeometry {
+    point_a: [0.0; 3],
+    point_b: [0.0; 3],
+    normal: [0.0, 0.0, 1.0],
+    depth: 0.0,
+    intersecting: false,
+    coplanar: false,
+};
+
+/// Pair `k` of the last answer as (mesh a, polygon a, mesh b, polygon b).
+fn item(
+    last: LastQuery,
+    contacts: &[Contact],
+    pairs: &[Pair],
+    k: usize,
+) -> (MeshId, u32, MeshId, u32) {
+    match last {
+        LastQuery::One(r) => {
+            let c = &contacts[k];
+            (r, c.reference_polygon, c.other_mesh, c.other_polygon)
+        }
+        _ => {
+            let p = &pairs[k];
+            (p.mesh_a, p.polygon_a, p.mesh_b, p.polygon_b)
+        }
+    }
+}
+
+/// The last mesh looked up for each side of a run of pairs (consecutive pairs mostly
+/// share them).
+type Last<'m> = [Option<(MeshId, &'m Mesh)>; 2];
+
+/// Fills `out` with polygon `p` of mesh `id` (its triangles in world positions), returning
+/// how many.
+fn polygon<'m>(
+    meshes: &'m BTreeMap<MeshId, Mesh>,
+    last: &mut Last<'m>,
+    side: usize,
+    id: MeshId,
+    p: u32,
+    out: &mut [[P3; 3]; 2],
+) -> Result<usize> {
+    let m = match last[side] {
+        Some((at, m)) if at == id => m,
+        _ => {
+            let m = meshes.get(&id).ok_or_else(|| unknown(id))?;
+            last[side] = Some((id, m));
+            m
+        }
+    };
+    m.polygon_triangles(p, out)
+        .ok_or_else(|| Error::new(ErrorKind::Internal, format!("mesh {id} has no polygon {p}")))
 }
 
 fn nanos_since(t: Instant) -> u64 {

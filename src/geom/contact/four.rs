@@ -1,0 +1,689 @@
+//! Four crossing triangle pairs at once: the fast path of [`super::contact_geometry`]
+//! (two triangles crossing transversally) written with AVX2 vectors of four `f64`, one
+//! lane per pair, so that one instruction serves four pairs.
+//!
+//! It is only for pairs **known to intersect** (the pairs of a query at epsilon 0: each
+//! was decided by the exact test), which lets it skip the exact test itself. A lane is
+//! answered here only when the scalar fast path would take none of its rare branches:
+//! every vertex's side of the other plane certified by the filter (no vertex on the other
+//! plane), no edge along the other's plane in the separating-axis search, and a finite
+//! unit result. (Cut ends that need the accurate distances get them here too.) Every
+//! other lane is left to [`super::contact_geometry`] by the caller.
+//!
+//! The operations are the scalar fast path's, in the same order on the same values
+//! (`minpd`/`maxpd` are its `min`/`max`, the only fused multiply-adds its explicit
+//! `mul_add`s), and the winning axis is chosen by the same rule (the least key; among
+//! equal keys the first in the scalar path's order), so a lane answered here is bit for
+//! bit the scalar answer (the tests compare them on random and real pairs). Choices that
+//! follow a lane's data (which vertex is alone on its side, which edge pairs are facets)
+//! are blends, as the scalar path's are table lookups.
+//!
+//! Written with `std::arch` rather than arrays left to the compiler's vectorizer: the
+//! array version came out half scalar (shuffles and spills) and slower than the scalar
+//! path it copies.
+
+use std::arch::x86_64::*;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use super::{ContactGeometry, FACE_SLACK, REFINE};
+use crate::geom::predicates::P3;
+
+/// Pairs per pass.
+pub const LANES: usize = 4;
+
+/// Four `f64` lanes. **Invariant**: a value of this type (or of [`M`]) exists only on a
+/// CPU with AVX2 and FMA: the only ways to make one are `unsafe` functions whose callers
+/// promise that, so the safe operations below may use those instructions.
+#[derive(Clone, Copy)]
+struct F(__m256d);
+
+/// Four lane masks (all bits set or clear), under [`F`]'s invariant.
+#[derive(Clone, Copy)]
+struct M(__m256d);
+
+impl F {
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    unsafe fn splat(x: f64) -> F {
+        // SAFETY: the caller's promise.
+        unsafe { F(_mm256_set1_pd(x)) }
+    }
+
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    unsafe fn new(x: [f64; 4]) -> F {
+        // SAFETY: the caller's promise; `x` holds four f64.
+        unsafe { F(_mm256_loadu_pd(x.as_ptr())) }
+    }
+
+    /// Another value under the invariant (so no promise needed).
+    #[inline(always)]
+    fn like(&self, x: f64) -> F {
+        // SAFETY: `self` exists, so the CPU has AVX2 (the type's invariant).
+        unsafe { F::splat(x) }
+    }
+
+    #[inline(always)]
+    fn get(&self) -> [f64; 4] {
+        let mut r = [0.0; 4];
+        // SAFETY: the invariant; `r` holds four f64.
+        unsafe { _mm256_storeu_pd(r.as_mut_ptr(), self.0) };
+        r
+    }
+
+    #[inline(always)]
+    fn abs(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0)) }
+    }
+
+    /// `x < y ? x : y` per lane (`minpd`), the scalar path's `min`.
+    #[inline(always)]
+    fn min(self, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_min_pd(self.0, y.0)) }
+    }
+
+    /// `x > y ? x : y` per lane (`maxpd`), the scalar path's `max`.
+    #[inline(always)]
+    fn max(self, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_max_pd(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn sqrt(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_sqrt_pd(self.0)) }
+    }
+
+    /// `self * b + c` rounded once.
+    #[inline(always)]
+    fn mul_add(self, b: F, c: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_fmadd_pd(self.0, b.0, c.0)) }
+    }
+
+    /// `+-1` with the sign of `self`.
+    #[inline(always)]
+    fn sign_one(self) -> F {
+        // SAFETY: the invariant.
+        unsafe {
+            let sign = _mm256_and_pd(self.0, _mm256_set1_pd(-0.0));
+            F(_mm256_or_pd(sign, _mm256_set1_pd(1.0)))
+        }
+    }
+
+    #[inline(always)]
+    fn lt(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn le(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_LE_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn eq(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn gt(self, y: F) -> M {
+        y.lt(self)
+    }
+
+    #[inline(always)]
+    fn ge(self, y: F) -> M {
+        y.le(self)
+    }
+}
+
+macro_rules! binary {
+    ($tr:ident, $f:ident, $op:ident) => {
+        impl $tr for F {
+            type Output = F;
+            #[inline(always)]
+            fn $f(self, y: F) -> F {
+                // SAFETY: the invariant.
+                unsafe { F($op(self.0, y.0)) }
+            }
+        }
+    };
+}
+binary!(Add, add, _mm256_add_pd);
+binary!(Sub, sub, _mm256_sub_pd);
+binary!(Mul, mul, _mm256_mul_pd);
+binary!(Div, div, _mm256_div_pd);
+
+impl Neg for F {
+    type Output = F;
+    #[inline(always)]
+    fn neg(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0))) }
+    }
+}
+
+impl M {
+    #[inline(always)]
+    fn and(self, o: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_and_pd(self.0, o.0)) }
+    }
+
+    #[inline(always)]
+    fn or(self, o: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_or_pd(self.0, o.0)) }
+    }
+
+    /// Lanes where the two masks differ.
+    #[inline(always)]
+    fn xor(self, o: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_xor_pd(self.0, o.0)) }
+    }
+
+    #[inline(always)]
+    fn not(self) -> M {
+        // SAFETY: the invariant.
+        unsafe {
+            M(_mm256_xor_pd(
+                self.0,
+                _mm256_castsi256_pd(_mm256_set1_epi64x(-1)),
+            ))
+        }
+    }
+
+    /// Bit `l` set when lane `l` is.
+    #[inline(always)]
+    fn bits(self) -> u32 {
+        // SAFETY: the invariant.
+        unsafe { _mm256_movemask_pd(self.0) as u32 }
+    }
+
+    /// `if self { x } else { y }` per lane.
+    #[inline(always)]
+    fn sel(self, x: F, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_blendv_pd(y.0, x.0, self.0)) }
+    }
+
+    #[inline(always)]
+    fn selw(self, x: &W, y: &W) -> W {
+        W {
+            x: self.sel(x.x, y.x),
+            y: self.sel(x.y, y.y),
+            z: self.sel(x.z, y.z),
+        }
+    }
+}
+
+/// One of three per lane: `x` where `m0`, else `y` where `m1`, else `z`.
+#[inline(always)]
+fn sel3(m0: M, m1: M, x: F, y: F, z: F) -> F {
+    m0.sel(x, m1.sel(y, z))
+}
+
+#[inline(always)]
+fn sel3w(m0: M, m1: M, x: &W, y: &W, z: &W) -> W {
+    m0.selw(x, &m1.selw(y, z))
+}
+
+/// A 3-vector per lane.
+#[derive(Clone, Copy)]
+struct W {
+    x: F,
+    y: F,
+    z: F,
+}
+
+impl W {
+    #[inline(always)]
+    fn sub(&self, o: &W) -> W {
+        W {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+
+    /// `self + o * t` (nalgebra's `p + v * t`: the product rounded, then the sum).
+    #[inline(always)]
+    fn add_scaled(&self, o: &W, t: F) -> W {
+        W {
+            x: self.x + o.x * t,
+            y: self.y + o.y * t,
+            z: self.z + o.z * t,
+        }
+    }
+
+    #[inline(always)]
+    fn scale(&self, t: F) -> W {
+        W {
+            x: self.x * t,
+            y: self.y * t,
+            z: self.z * t,
+        }
+    }
+
+    /// nalgebra's `cross`, component by component.
+    #[inline(always)]
+    fn cross(&self, o: &W) -> W {
+        W {
+            x: self.y * o.z - self.z * o.y,
+            y: self.z * o.x - self.x * o.z,
+            z: self.x * o.y - self.y * o.x,
+        }
+    }
+
+    /// nalgebra's `dot` for 3-vectors: `(x x' + y y') + z z'`.
+    #[inline(always)]
+    fn dot(&self, o: &W) -> F {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// `self . |o|`.
+    #[inline(always)]
+    fn dot_abs(&self, o: &W) -> F {
+        self.x * o.x.abs() + self.y * o.y.abs() + self.z * o.z.abs()
+    }
+
+    #[inline(always)]
+    fn norm_squared(&self) -> F {
+        self.dot(self)
+    }
+
+    /// The largest magnitude of a component.
+    #[inline(always)]
+    fn amax(&self) -> F {
+        self.x.abs().max(self.y.abs()).max(self.z.abs())
+    }
+}
+
+/// The scalar path's `min_max` of three values.
+#[inline(always)]
+fn min_max(d: &[F; 3]) -> (F, F) {
+    let le = d[0].le(d[1]);
+    let (lo, hi) = (le.sel(d[0], d[1]), le.sel(d[1], d[0]));
+    (d[2].lt(lo).sel(d[2], lo), d[2].gt(hi).sel(d[2], hi))
+}
+
+/// `a + b` as the rounded sum and its exact error (the scalar `two_sum`).
+#[inline(always)]
+fn two_sum(a: F, b: F) -> (F, F) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `a b` as the rounded product and its exact error (the scalar `two_prod`).
+#[inline(always)]
+fn two_prod(a: F, b: F) -> (F, F) {
+    let p = a * b;
+    (p, a.mul_add(b, -p))
+}
+
+/// A triangle's plane as the scalar path's `Face`.
+struct Face {
+    o: W,
+    e: W,
+    f: W,
+    n: W,
+    perm: W,
+}
+
+impl Face {
+    #[inline(always)]
+    fn of(t: &[W; 3]) -> Face {
+        let e = t[1].sub(&t[0]);
+        let f = t[2].sub(&t[0]);
+        Face {
+            o: t[0],
+            e,
+            f,
+            n: e.cross(&f),
+            perm: W {
+                x: (e.y * f.z).abs() + (e.z * f.y).abs(),
+                y: (e.z * f.x).abs() + (e.x * f.z).abs(),
+                z: (e.x * f.y).abs() + (e.y * f.x).abs(),
+            },
+        }
+    }
+
+    /// The points' signed distances (times `|n|`), the scales of their rounding errors,
+    /// and the lanes where every side is certain and not all are the same (the triangle
+    /// crosses the plane).
+    #[inline(always)]
+    fn sides(&self, p: &[W; 3]) -> ([F; 3], [F; 3], M) {
+        let zero = self.o.x.like(0.0);
+        let ((d0, s0, c0), (d1, s1, c1), (d2, s2, c2)) =
+            (self.side(&p[0]), self.side(&p[1]), self.side(&p[2]));
+        let (u0, u1, u2) = (d0.gt(zero), d1.gt(zero), d2.gt(zero));
+        let mixed = u0.xor(u1).or(u1.xor(u2));
+        ([d0, d1, d2], [s0, s1, s2], c0.and(c1).and(c2).and(mixed))
+    }
+
+    /// One point's distance, its error's scale, and whether its sign is certain. (No
+    /// closures in this module: one is compiled as its own function, without AVX2, and
+    /// then every intrinsic in it is a call.)
+    #[inline(always)]
+    fn side(&self, p: &W) -> (F, F, M) {
+        let w = p.sub(&self.o);
+        let d = self.n.dot(&w);
+        let scale = self.perm.dot_abs(&w);
+        (d, scale, d.abs().gt(self.o.x.like(FACE_SLACK) * scale))
+    }
+
+    /// The scalar `Face::distance_accurately` (error-free transformations).
+    #[inline(always)]
+    fn distance_accurately(&self, p: &W) -> F {
+        let w = p.sub(&self.o);
+        let (e, f) = (&self.e, &self.f);
+        let mut hi = w.x.like(0.0);
+        let mut lo = w.x.like(0.0);
+        for (a, b, c, d, x) in [
+            (e.y, f.z, e.z, f.y, w.x),
+            (e.z, f.x, e.x, f.z, w.y),
+            (e.x, f.y, e.y, f.x, w.z),
+        ] {
+            let (p1, e1) = two_prod(a, b);
+            let (p2, e2) = two_prod(c, d);
+            let (nh, e3) = two_sum(p1, -p2);
+            let nl = e3 + (e1 - e2);
+            let (t, tl) = two_prod(nh, x);
+            let (s, e4) = two_sum(hi, t);
+            hi = s;
+            lo = lo + (e4 + tl + nl * x);
+        }
+        hi + lo
+    }
+}
+
+/// The vertex alone on its side of three signs as two masks (`m0`: vertex 0, `m1`:
+/// vertex 1, neither: vertex 2), as the scalar `LONELY[pattern(d)]` when the signs are
+/// mixed.
+#[inline(always)]
+fn lonely(d: &[F; 3]) -> (M, M) {
+    let zero = d[0].like(0.0);
+    let (p0, p1, p2) = (d[0].gt(zero), d[1].gt(zero), d[2].gt(zero));
+    let m0 = p1.xor(p2).not();
+    let m1 = m0.not().and(p0.xor(p2).not());
+    (m0, m1)
+}
+
+/// Distance `x` of `v` to `plane` evaluated accurately in the lanes of `shaky` (where of
+/// the same sign: the exact one).
+#[inline(always)]
+fn accurate(plane: &Face, v: &W, x: F, shaky: M) -> F {
+    let zero = x.like(0.0);
+    let y = plane.distance_accurately(v);
+    let same = y.gt(zero).xor(x.gt(zero)).not();
+    shaky.and(same).and(y.eq(zero).not()).sel(y, x)
+}
+
+/// The cut of triangle `v` by `plane` (`d`: its vertices' distances to it, all non-zero,
+/// not all of one sign), as the scalar `Cutting::cut`: where rounding could move an end
+/// too far, from the distances evaluated accurately (keeping the exact signs), as the
+/// scalar `Cutting::cut_accurately`.
+#[inline(always)]
+fn cut(v: &[W; 3], d: &[F; 3], s: &[F; 3], mag: F, plane: &Face) -> (W, W) {
+    let (m0, m1) = lonely(d);
+    let vk = sel3w(m0, m1, &v[0], &v[1], &v[2]);
+    let vi = sel3w(m0, m1, &v[1], &v[2], &v[0]);
+    let vj = sel3w(m0, m1, &v[2], &v[0], &v[1]);
+    let mut dk = sel3(m0, m1, d[0], d[1], d[2]);
+    let dvi = sel3(m0, m1, d[1], d[2], d[0]);
+    let dvj = sel3(m0, m1, d[2], d[0], d[1]);
+    let sk = sel3(m0, m1, s[0], s[1], s[2]);
+    let si = sel3(m0, m1, s[1], s[2], s[0]);
+    let sj = sel3(m0, m1, s[2], s[0], s[1]);
+    let (ei, ej) = (vi.sub(&vk), vj.sub(&vk));
+    let (mut di, mut dj) = (dk - dvi, dk - dvj);
+    let limit = mag.like(REFINE) * mag;
+    let two_half = mag.like(2.5);
+    let shaky_i = (two_half * (sk + si) * ei.amax()).gt(limit * di.abs());
+    let shaky_j = (two_half * (sk + sj) * ej.amax()).gt(limit * dj.abs());
+    let shaky = shaky_i.or(shaky_j);
+    if shaky.bits() != 0 {
+        // Rare on real meshes (a few pairs in a thousand): the accurate distances, used
+        // where shaky and of the same sign.
+        let fine = [
+            accurate(plane, &v[0], d[0], shaky),
+            accurate(plane, &v[1], d[1], shaky),
+            accurate(plane, &v[2], d[2], shaky),
+        ];
+        dk = sel3(m0, m1, fine[0], fine[1], fine[2]);
+        di = dk - sel3(m0, m1, fine[1], fine[2], fine[0]);
+        dj = dk - sel3(m0, m1, fine[2], fine[0], fine[1]);
+    }
+    let (zero, one) = (mag.like(0.0), mag.like(1.0));
+    // The scalar `max(0.0, min(r, 1.0))`.
+    let ti = zero.max((dk / di).min(one));
+    let tj = zero.max((dk / dj).min(one));
+    (vk.add_scaled(&ei, ti), vk.add_scaled(&ej, tj))
+}
+
+/// `x + 3` where negative (`x` in -2..=2).
+#[inline(always)]
+fn wrap3(x: F) -> F {
+    let zero = x.like(0.0);
+    x.lt(zero).sel(x + x.like(3.0), x)
+}
+
+/// The best separating axis so far in each lane: the least key, and among equal keys the
+/// least rank (the scalar path's order).
+struct Best {
+    key: F,
+    rank: F,
+    c: W,
+    s: F,
+    dir: F,
+    den: F,
+}
+
+impl Best {
+    /// Axis `n` (squared length `den`) of rank `r`, moving `a` by `sn` along `dn * n`;
+    /// only in the lanes of `facet`.
+    #[inline(always)]
+    fn offer(&mut self, r: F, n: &W, sn: F, dn: F, den: F, facet: M) {
+        let inf = r.like(f64::INFINITY);
+        let valid = den.gt(r.like(0.0)).and(facet);
+        let k = valid.sel(sn * sn.abs() / den, inf);
+        let take = k.lt(self.key).or(k.eq(self.key).and(r.lt(self.rank)));
+        self.key = take.sel(k, self.key);
+        self.rank = take.sel(r, self.rank);
+        self.c = take.selw(n, &self.c);
+        self.s = take.sel(sn, self.s);
+        self.dir = take.sel(dn, self.dir);
+        self.den = take.sel(den, self.den);
+    }
+}
+
+/// Edges `v_{k+1} - v_k`.
+#[inline(always)]
+fn edges(v: &[W; 3]) -> [W; 3] {
+    [v[1].sub(&v[0]), v[2].sub(&v[1]), v[0].sub(&v[2])]
+}
+
+/// [`lonely`]'s masks as the vertex index (0, 1, 2).
+#[inline(always)]
+fn index((m0, m1): (M, M)) -> F {
+    let zero = F(m0.0).like(0.0);
+    m0.sel(zero, m1.sel(zero.like(1.0), zero.like(2.0)))
+}
+
+/// Lanes where the three are non-zero and not all of one sign.
+#[inline(always)]
+fn fine(x: &[F; 3]) -> M {
+    let zero = x[0].like(0.0);
+    let nonzero = x[0].eq(zero).or(x[1].eq(zero)).or(x[2].eq(zero)).not();
+    let (u0, u1, u2) = (x[0].gt(zero), x[1].gt(zero), x[2].gt(zero));
+    nonzero.and(u0.xor(u1).or(u1.xor(u2)))
+}
+
+/// The three vertices of each lane's triangle, as lanes.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[inline(always)]
+unsafe fn load(t: &[[P3; 3]; LANES]) -> [W; 3] {
+    let mut v = [[[0.0; LANES]; 3]; 3];
+    for (l, t) in t.iter().enumerate() {
+        for k in 0..3 {
+            for m in 0..3 {
+                v[k][m][l] = t[k][m];
+            }
+        }
+    }
+    // SAFETY: the caller's promise.
+    unsafe {
+        [
+            W {
+                x: F::new(v[0][0]),
+                y: F::new(v[0][1]),
+                z: F::new(v[0][2]),
+            },
+            W {
+                x: F::new(v[1][0]),
+                y: F::new(v[1][1]),
+                z: F::new(v[1][2]),
+            },
+            W {
+                x: F::new(v[2][0]),
+                y: F::new(v[2][1]),
+                z: F::new(v[2][2]),
+            },
+        ]
+    }
+}
+
+/// Geometry of four triangle pairs `(a[l], b[l])`, each known to intersect (exactly).
+/// Lane `l` of the result is the scalar fast path's answer where it is `Some`; `None`
+/// leaves that pair to [`super::contact_geometry`].
+///
+/// # Safety
+/// The CPU has AVX2 and FMA (the caller is compiled for them, or checked).
+#[inline(always)]
+pub unsafe fn crossing(
+    a: &[[P3; 3]; LANES],
+    b: &[[P3; 3]; LANES],
+) -> [Option<ContactGeometry>; LANES] {
+    // SAFETY: the caller's promise (every other value is made from these).
+    let (ta, tb, zero) = unsafe { (load(a), load(b), F::splat(0.0)) };
+    let fa = Face::of(&ta);
+    let (db, scale_b, ok_b) = fa.sides(&tb);
+    let fb = Face::of(&tb);
+    let (da, scale_a, ok_a) = fb.sides(&ta);
+    // The pair's magnitude, to within its extent (as the scalar path).
+    let mag = ta[0].amax().max(tb[0].amax());
+    let (a0, a1) = cut(&ta, &da, &scale_a, mag, &fb);
+    let (b0, b1) = cut(&tb, &db, &scale_b, mag, &fa);
+    // The overlap of the two cuts on the planes' common line (the scalar `transverse`).
+    let line = fa.n.cross(&fb.n);
+    let (ka0, ka1, kb0, kb1) = (line.dot(&a0), line.dot(&a1), line.dot(&b0), line.dot(&b1));
+    let (ca, cb) = (ka0.le(ka1), kb0.le(kb1));
+    let (la, ha) = (ca.selw(&a0, &a1), ca.selw(&a1, &a0));
+    let (lb, hb) = (cb.selw(&b0, &b1), cb.selw(&b1, &b0));
+    // (Only compared: the choice between equal values does not matter.)
+    let (kla, kha) = (ka0.min(ka1), ka0.max(ka1));
+    let (klb, khb) = (kb0.min(kb1), kb0.max(kb1));
+    let lo = kla.ge(klb).selw(&la, &lb);
+    let hi = kha.le(khb).selw(&ha, &hb);
+    let half = zero.like(0.5);
+    let mid = W {
+        x: (lo.x + hi.x) * half,
+        y: (lo.y + hi.y) * half,
+        z: (lo.z + hi.z) * half,
+    };
+    let apart = kla.max(klb).gt(kha.min(khb));
+    let (p, q) = (apart.selw(&mid, &lo), apart.selw(&mid, &hi));
+
+    // The separating-axis search (the scalar `triangles_sat`): edges `e_k = v_{k+1} -
+    // v_k`; `a3_j = -eb_j . na`, `b3_i = ea_i . nb`; the edge pair (i, j) is a facet of
+    // the Minkowski difference when b3_i and a3_j differ in sign.
+    let (ea, eb) = (edges(&ta), edges(&tb));
+    let a3 = [-eb[0].dot(&fa.n), -eb[1].dot(&fa.n), -eb[2].dot(&fa.n)];
+    let b3 = [ea[0].dot(&fb.n), ea[1].dot(&fb.n), ea[2].dot(&fb.n)];
+    // The scalar path's lone signs (`ja` of a3, `ib` of b3), for its order among facets:
+    // it lists facet (i, j) in the order of `3 ((i - ib) mod 3) + (j - ja) mod 3`.
+    let (ja, ib) = (index(lonely(&a3)), index(lonely(&b3)));
+    let (fine_a, fine_b) = (fine(&a3), fine(&b3));
+
+    // The two faces: on na, a at 0 and b at db; on nb, b at 0 and a at da.
+    let mut best = Best {
+        key: zero.like(f64::INFINITY),
+        rank: zero.like(f64::INFINITY),
+        c: W {
+            x: zero,
+            y: zero,
+            z: zero,
+        },
+        s: zero,
+        dir: zero,
+        den: zero,
+    };
+    let (one, minus_one) = (zero.like(1.0), zero.like(-1.0));
+    let all = zero.eq(zero);
+    let (bmin, bmax) = min_max(&db);
+    let (up, down) = (bmax - zero, zero - bmin);
+    let dir = up.le(down).sel(one, minus_one);
+    let den = fa.n.norm_squared();
+    best.offer(zero.like(-2.0), &fa.n, up.min(down), dir, den, all);
+    let (amin, amax) = min_max(&da);
+    let (up, down) = (zero - amin, amax - zero);
+    let dir = up.le(down).sel(one, minus_one);
+    let den = fb.n.norm_squared();
+    best.offer(zero.like(-1.0), &fb.n, up.min(down), dir, den, all);
+    for i in 0..3 {
+        for j in 0..3 {
+            let facet = b3[i].gt(zero).xor(a3[j].gt(zero));
+            let c = ea[i].cross(&eb[j]);
+            let dn = a3[j].sign_one();
+            let sn = dn * c.dot(&tb[j].sub(&ta[i]));
+            let (fi, fj) = (zero.like(i as f64), zero.like(j as f64));
+            let r = zero.like(3.0) * wrap3(fi - ib) + wrap3(fj - ja);
+            best.offer(r, &c, sn, dn, c.norm_squared(), facet);
+        }
+    }
+    // The result (the scalar `Axis::result`), then `finish`'s guard.
+    let len = best.den.sqrt();
+    let depth = (best.s / len).max(zero);
+    let normal = best.c.scale(best.dir / len);
+    let n2 = normal.norm_squared();
+    let ok = ok_a
+        .and(ok_b)
+        .and(fine_a)
+        .and(fine_b)
+        .and(best.key.lt(zero.like(f64::INFINITY)))
+        .and(len.gt(zero))
+        .and((n2 - one).abs().lt(zero.like(1e-12)))
+        .bits();
+    let (px, py, pz) = ((p.x + zero).get(), (p.y + zero).get(), (p.z + zero).get());
+    let (qx, qy, qz) = ((q.x + zero).get(), (q.y + zero).get(), (q.z + zero).get());
+    let (nx, ny, nz) = (normal.x.get(), normal.y.get(), normal.z.get());
+    let depth = depth.get();
+    let mut out = [None; LANES];
+    for (l, out) in out.iter_mut().enumerate() {
+        let g = ContactGeometry {
+            point_a: [px[l], py[l], pz[l]],
+            point_b: [qx[l], qy[l], qz[l]],
+            normal: [nx[l], ny[l], nz[l]],
+            depth: depth[l],
+            intersecting: true,
+            coplanar: false,
+        };
+        let sum: f64 = g.point_a.iter().chain(&g.point_b).chain(&g.normal).sum();
+        if ok & (1 << l) != 0 && (sum + g.depth).is_finite() {
+            *out = Some(g);
+        }
+    }
+    out
+}
