@@ -12,8 +12,10 @@
 //!
 //! Two triangles take a fast path (crossing or apart, no structures, the exact test's
 //! permutation by table, no data-dependent branches in the separating-axis search), built
-//! for AVX2 when the CPU has it (the same operations, so the same bits). See
-//! [`contact_geometry`] for the meaning of every output.
+//! for AVX2 when the CPU has it (the same operations, so the same bits). Many pairs known
+//! to intersect take that fast path four at a time in AVX2 lanes (`four.rs`, through
+//! [`contact_geometry_intersecting`]), again bit for bit. See [`contact_geometry`] for the
+//! meaning of every output.
 
 use nalgebra::Vector3;
 
@@ -122,9 +124,11 @@ pub struct ContactGeometry {
 /// normals within 0.9 eps radian of the exact direction.
 ///
 /// **Cost**: two triangles crossing, about 1700 instructions (AVX2 build) including the
-/// exact test; on the heavy case (about 700 crossing pairs) about 205 ns per pair when
-/// uninterrupted (the least of single runs), 200 to 300 ns on a loaded machine, 17 to 20%
-/// of the query's time (`tests/contact_heavy.rs`, `bench-results/contact.md`).
+/// exact test; on the heavy case (about 700 crossing pairs) about 160 to 205 ns per pair,
+/// 17 to 20% of the query's time. Pairs known to intersect (a query's at epsilon 0) go
+/// four at a time through [`contact_geometry_intersecting`] instead (what
+/// `Scene::contact_geometry` does): about 50 to 75 ns per pair, 8 to 9% of the query
+/// (`tests/contact_heavy.rs`, `bench-results/contact.md`).
 pub fn contact_geometry(
     a: &[[P3; 3]; 2],
     na: usize,

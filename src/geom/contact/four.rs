@@ -331,6 +331,15 @@ fn two_prod(a: F, b: F) -> (F, F) {
     (p, a.mul_add(b, -p))
 }
 
+/// `a b - c d` as an unevaluated sum (the scalar `distance_accurately`'s steps).
+#[inline(always)]
+fn diff_of_products(a: F, b: F, c: F, d: F) -> (F, F) {
+    let (p1, e1) = two_prod(a, b);
+    let (p2, e2) = two_prod(c, d);
+    let (nh, e3) = two_sum(p1, -p2);
+    (nh, e3 + (e1 - e2))
+}
+
 /// A triangle's plane as the scalar path's `Face`.
 struct Face {
     o: W,
@@ -382,22 +391,37 @@ impl Face {
         (d, scale, d.abs().gt(self.o.x.like(FACE_SLACK) * scale))
     }
 
-    /// The scalar `Face::distance_accurately` (error-free transformations).
+    /// The normal's components as unevaluated sums `nh + nl` (error-free
+    /// transformations), for [`Face::distance_accurately`]: once per plane.
     #[inline(always)]
-    fn distance_accurately(&self, p: &W) -> F {
-        let w = p.sub(&self.o);
+    fn normal_accurately(&self) -> (W, W) {
         let (e, f) = (&self.e, &self.f);
+        let (xh, xl) = diff_of_products(e.y, f.z, e.z, f.y);
+        let (yh, yl) = diff_of_products(e.z, f.x, e.x, f.z);
+        let (zh, zl) = diff_of_products(e.x, f.y, e.y, f.x);
+        (
+            W {
+                x: xh,
+                y: yh,
+                z: zh,
+            },
+            W {
+                x: xl,
+                y: yl,
+                z: zl,
+            },
+        )
+    }
+
+    /// The scalar `Face::distance_accurately` (error-free transformations), given the
+    /// normal from [`Face::normal_accurately`] (the scalar path recomputes it per point:
+    /// the same values).
+    #[inline(always)]
+    fn distance_accurately(&self, (nh, nl): &(W, W), p: &W) -> F {
+        let w = p.sub(&self.o);
         let mut hi = w.x.like(0.0);
         let mut lo = w.x.like(0.0);
-        for (a, b, c, d, x) in [
-            (e.y, f.z, e.z, f.y, w.x),
-            (e.z, f.x, e.x, f.z, w.y),
-            (e.x, f.y, e.y, f.x, w.z),
-        ] {
-            let (p1, e1) = two_prod(a, b);
-            let (p2, e2) = two_prod(c, d);
-            let (nh, e3) = two_sum(p1, -p2);
-            let nl = e3 + (e1 - e2);
+        for (nh, nl, x) in [(nh.x, nl.x, w.x), (nh.y, nl.y, w.y), (nh.z, nl.z, w.z)] {
             let (t, tl) = two_prod(nh, x);
             let (s, e4) = two_sum(hi, t);
             hi = s;
@@ -422,9 +446,9 @@ fn lonely(d: &[F; 3]) -> (M, M) {
 /// Distance `x` of `v` to `plane` evaluated accurately in the lanes of `shaky` (where of
 /// the same sign: the exact one).
 #[inline(always)]
-fn accurate(plane: &Face, v: &W, x: F, shaky: M) -> F {
+fn accurate(plane: &Face, n: &(W, W), v: &W, x: F, shaky: M) -> F {
     let zero = x.like(0.0);
-    let y = plane.distance_accurately(v);
+    let y = plane.distance_accurately(n, v);
     let same = y.gt(zero).xor(x.gt(zero)).not();
     shaky.and(same).and(y.eq(zero).not()).sel(y, x)
 }
@@ -455,10 +479,11 @@ fn cut(v: &[W; 3], d: &[F; 3], s: &[F; 3], mag: F, plane: &Face) -> (W, W) {
     if shaky.bits() != 0 {
         // Rare on real meshes (a few pairs in a thousand): the accurate distances, used
         // where shaky and of the same sign.
+        let n = plane.normal_accurately();
         let fine = [
-            accurate(plane, &v[0], d[0], shaky),
-            accurate(plane, &v[1], d[1], shaky),
-            accurate(plane, &v[2], d[2], shaky),
+            accurate(plane, &n, &v[0], d[0], shaky),
+            accurate(plane, &n, &v[1], d[1], shaky),
+            accurate(plane, &n, &v[2], d[2], shaky),
         ];
         dk = sel3(m0, m1, fine[0], fine[1], fine[2]);
         di = dk - sel3(m0, m1, fine[1], fine[2], fine[0]);
