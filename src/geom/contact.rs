@@ -183,7 +183,10 @@ fn contact_geometry_any(
 /// computed together by the fast path written over lanes (`four.rs`: the same operations
 /// on the same values, one AVX2 instruction for four pairs; the exact test skipped since
 /// its answer is known); a lane that would need one of the fast path's rare branches, and
-/// every quad, goes through [`contact_geometry`] itself.
+/// every quad, goes through [`contact_geometry`] itself. A pair that does not intersect
+/// after all is answered exactly too (its planes' sides or its cuts on their common line
+/// show it, and it goes through [`contact_geometry`]) unless it misses by less than the
+/// rounding of its cuts.
 pub fn contact_geometry_intersecting<E, F>(
     out: &mut [ContactGeometry],
     mut fetch: F,
@@ -3165,36 +3168,58 @@ mod tests {
         for ((a, b), g) in pairs.iter().zip(&out) {
             assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
         }
-        // The lanes themselves: how many crossing pairs they answer.
-        let tris: Vec<_> = pairs
-            .iter()
-            .filter(|(a, b)| a.n == 1 && b.n == 1)
-            .map(|(a, b)| (a.t[0], b.t[0]))
-            .collect();
-        let (mut fast, mut all) = (0, 0);
-        #[cfg(target_arch = "x86_64")]
-        if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
-            println!("no AVX2: the lanes are not used");
-            return;
-        }
-        for chunk in tris.chunks_exact(four::LANES) {
-            let a = std::array::from_fn(|l| chunk[l].0);
-            let b = std::array::from_fn(|l| chunk[l].1);
-            // SAFETY: the CPU has AVX2 and FMA (checked above).
-            for (l, g) in unsafe { four::crossing(&a, &b) }.iter().enumerate() {
-                all += 1;
-                if let Some(g) = g {
-                    fast += 1;
-                    let want = contact_geometry(&[a[l]; 2], 1, &[b[l]; 2], 1);
-                    assert_eq!(bits(g), bits(&want), "{:?} {:?}", a[l], b[l]);
-                }
+        // Were a caller wrong about its pairs (pairs apart by more than rounding), the
+        // answers are still the exact ones: such lanes go to the scalar path.
+        let mut apart = Vec::new();
+        while apart.len() < 4000 {
+            let (a, b) = crossing_pair(&mut r, &[0.0; 3], 1.0);
+            let b = b.moved(&r.v(0.8).map(f32r));
+            if !meet(&a, &b) {
+                apart.push((a, b));
             }
         }
-        println!("four lanes answered {fast} of {all} intersecting triangle pairs");
-        assert!(
-            pairs.len() > 20_000 && fast * 10 > all * 8,
-            "{fast} of {all}"
-        );
+        let mut out = vec![geometry(&apart[0].0, &apart[0].1); apart.len()];
+        contact_geometry_intersecting::<(), _>(&mut out, |i, a, b| {
+            (*a, *b) = (apart[i].0.t, apart[i].1.t);
+            Ok((1, 1))
+        })
+        .unwrap();
+        for ((a, b), g) in apart.iter().zip(&out) {
+            assert!(!g.intersecting, "{a:?} {b:?}");
+            assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
+        }
+        // The lanes themselves: how many crossing pairs they answer.
+        #[cfg(target_arch = "x86_64")]
+        {
+            if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
+                println!("no AVX2: the lanes are not used");
+                return;
+            }
+            let tris: Vec<_> = pairs
+                .iter()
+                .filter(|(a, b)| a.n == 1 && b.n == 1)
+                .map(|(a, b)| (a.t[0], b.t[0]))
+                .collect();
+            let (mut fast, mut all) = (0, 0);
+            for chunk in tris.chunks_exact(four::LANES) {
+                let a = std::array::from_fn(|l| chunk[l].0);
+                let b = std::array::from_fn(|l| chunk[l].1);
+                // SAFETY: the CPU has AVX2 and FMA (checked above).
+                for (l, g) in unsafe { four::crossing(&a, &b) }.iter().enumerate() {
+                    all += 1;
+                    if let Some(g) = g {
+                        fast += 1;
+                        let want = contact_geometry(&[a[l]; 2], 1, &[b[l]; 2], 1);
+                        assert_eq!(bits(g), bits(&want), "{:?} {:?}", a[l], b[l]);
+                    }
+                }
+            }
+            println!("four lanes answered {fast} of {all} intersecting triangle pairs");
+            assert!(
+                pairs.len() > 20_000 && fast * 10 > all * 8,
+                "{fast} of {all}"
+            );
+        }
     }
 
     /// Extreme magnitudes and random bits in the f32 range: finite, unit, no panic.

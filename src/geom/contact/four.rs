@@ -7,8 +7,8 @@
 //! answered here only when the scalar fast path would take none of its rare branches:
 //! every vertex's side of the other plane certified by the filter (no vertex on the other
 //! plane), no edge along the other's plane in the separating-axis search, and a finite
-//! unit result. (Cut ends that need the accurate distances get them here too.) Every
-//! other lane is left to [`super::contact_geometry`] by the caller.
+//! unit result, and cuts that overlap. (Cut ends that need the accurate distances get them
+//! here too.) Every other lane is left to [`super::contact_geometry`] by the caller.
 //!
 //! The operations are the scalar fast path's, in the same order on the same values
 //! (`minpd`/`maxpd` are its `min`/`max`, the only fused multiply-adds its explicit
@@ -683,8 +683,13 @@ pub unsafe fn crossing(
     let depth = (best.s / len).max(zero);
     let normal = best.c.scale(best.dir / len);
     let n2 = normal.norm_squared();
+    // A lane whose cuts come out apart (a touch within rounding, or, were a caller wrong
+    // about the pair, no intersection at all) goes to the scalar path, which decides
+    // exactly: so a pair that does not intersect is never answered here unless its cuts
+    // overlap by less than their rounding.
     let ok = ok_a
         .and(ok_b)
+        .and(apart.not())
         .and(fine_a)
         .and(fine_b)
         .and(best.key.lt(zero.like(f64::INFINITY)))
