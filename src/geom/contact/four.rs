@@ -29,7 +29,7 @@ use super::{ContactGeometry, FACE_SLACK, REFINE};
 use crate::geom::predicates::P3;
 
 /// Pairs per pass.
-pub const LANES: usize = 4;
+pub(super) const LANES: usize = 4;
 
 /// Four `f64` lanes. **Invariant**: a value of this type (or of [`M`]) exists only on a
 /// CPU with AVX2 and FMA: the only ways to make one are `unsafe` functions whose callers
@@ -597,7 +597,7 @@ unsafe fn load(t: &[[P3; 3]; LANES]) -> [W; 3] {
 /// # Safety
 /// The CPU has AVX2 and FMA (the caller is compiled for them, or checked).
 #[inline(always)]
-pub unsafe fn crossing(
+pub(super) unsafe fn crossing(
     a: &[[P3; 3]; LANES],
     b: &[[P3; 3]; LANES],
 ) -> [Option<ContactGeometry>; LANES] {
