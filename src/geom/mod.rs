@@ -3,6 +3,8 @@
 pub mod adjacent;
 pub mod affine;
 pub mod contact;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod lanes;
 pub mod patch;
 pub mod polygon;
 pub mod predicates;

@@ -38,9 +38,12 @@ impl Prepared {
     /// The polygon made of `tris[..n]` (`n` is 1 or 2).
     #[inline]
     pub fn of(tris: [[P3; 3]; 2], n: usize) -> Prepared {
+        let first = Plane::of(&tris[0]);
+        // A triangle's two planes are the same (no second computation).
+        let last = if n == 1 { first } else { Plane::of(&tris[1]) };
         Prepared {
             poly: Polygon { tris, n },
-            planes: [Plane::of(&tris[0]), Plane::of(&tris[n - 1])],
+            planes: [first, last],
         }
     }
 

@@ -8,6 +8,9 @@
 
 use super::predicates::{collinear, drop_axis, orient2d, orient3d, P3};
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod four;
+
 /// Do the closed triangles `t` and `u` share at least one point? Touching counts.
 pub fn triangles_intersect(t: &[P3; 3], u: &[P3; 3]) -> bool {
     triangles_intersect_with(t, u, [0; 3], [0; 3])
@@ -573,5 +576,55 @@ mod tests {
                 [o + 0.5, o + 0.25, o + 1.0]
             )
         ));
+    }
+
+    /// The four-lane test decides only what floating point certifies, and then as the
+    /// exact test: random pairs (crossing, apart, near misses), on small grids (shared
+    /// vertices, coplanar and flat triangles, exact ties) and far from the origin; most
+    /// random pairs are decided in the lanes.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn four_lanes_decide_as_the_exact_test() {
+        if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
+            return;
+        }
+        let mut seed = 0x7A1E_5EED_u64;
+        let mut f = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (mut decided, mut total, mut meets) = ([0usize; 3], [0usize; 3], 0usize);
+        for i in 0..60_000 {
+            let kind = i % 3;
+            let off = [0.0, 1e3, 1e5][i % 5 % 3];
+            let mut pair = || {
+                let mut c = || match kind {
+                    0 => off + f(),
+                    1 => off + (((f() + 0.5) * 4.0) as i32) as f64 * 0.5,
+                    _ => off + f() * 0.01 + 0.3,
+                };
+                let t = [[c(), c(), c()], [c(), c(), c()], [c(), c(), c()]];
+                t.map(|p| p.map(|x| x as f32 as f64))
+            };
+            let a: [[P3; 3]; 4] = [pair(), pair(), pair(), pair()];
+            let b: [[P3; 3]; 4] = [pair(), pair(), pair(), pair()];
+            // SAFETY: AVX2 and FMA checked above.
+            let (d, m) = unsafe { four::intersect(&a, &b) };
+            for l in 0..4 {
+                let want = triangles_intersect(&a[l], &b[l]);
+                total[kind] += 1;
+                meets += usize::from(want);
+                if d & (1 << l) != 0 {
+                    decided[kind] += 1;
+                    assert_eq!(m & (1 << l) != 0, want, "{:?} {:?}", a[l], b[l]);
+                } else {
+                    assert_eq!(m & (1 << l), 0);
+                }
+            }
+        }
+        println!("decided in the lanes (random, grid, clustered): {decided:?} of {total:?}; {meets} meet");
+        assert!(decided[0] * 10 > total[0] * 9 && decided[2] * 10 > total[2] * 8 && meets > 20_000);
     }
 }

@@ -1,0 +1,346 @@
+//! Four `f64` lanes in AVX2 registers (x86-64 only): the types the geometry kernels that
+//! work on four triangle pairs at once are written with (`contact/four.rs`: contact
+//! geometry; `tritri/four.rs`: the exact intersection test, where floating point
+//! certifies it). Every operation is one IEEE
+//! operation per lane (no fused multiply-add unless asked for), so a kernel gives in each
+//! lane what the same scalar code gives.
+//!
+//! Written with `std::arch` rather than arrays left to the compiler's vectorizer: an array
+//! version of the contact kernel came out half scalar (shuffles and spills) and slower than
+//! the scalar code it copies. A kernel must not use closures: a closure is compiled as its
+//! own function, without AVX2, and every intrinsic in it then becomes a call.
+
+use std::arch::x86_64::*;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use super::predicates::P3;
+
+/// Lanes per vector.
+pub(crate) const LANES: usize = 4;
+
+/// Four `f64` lanes. **Invariant**: a value of this type (or of [`M`]) exists only on a
+/// CPU with AVX2 and FMA: the only ways to make one are `unsafe` functions whose callers
+/// promise that, so the safe operations below may use those instructions.
+#[derive(Clone, Copy)]
+pub(crate) struct F(__m256d);
+
+/// Four lane masks (all bits set or clear), under [`F`]'s invariant.
+#[derive(Clone, Copy)]
+pub(crate) struct M(__m256d);
+
+impl F {
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    pub(crate) unsafe fn splat(x: f64) -> F {
+        // SAFETY: the caller's promise.
+        unsafe { F(_mm256_set1_pd(x)) }
+    }
+
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    pub(crate) unsafe fn new(x: [f64; 4]) -> F {
+        // SAFETY: the caller's promise; `x` holds four f64.
+        unsafe { F(_mm256_loadu_pd(x.as_ptr())) }
+    }
+
+    /// Another value under the invariant (so no promise needed).
+    #[inline(always)]
+    pub(crate) fn like(&self, x: f64) -> F {
+        // SAFETY: `self` exists, so the CPU has AVX2 (the type's invariant).
+        unsafe { F::splat(x) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn get(&self) -> [f64; 4] {
+        let mut r = [0.0; 4];
+        // SAFETY: the invariant; `r` holds four f64.
+        unsafe { _mm256_storeu_pd(r.as_mut_ptr(), self.0) };
+        r
+    }
+
+    #[inline(always)]
+    pub(crate) fn abs(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0)) }
+    }
+
+    /// `x < y ? x : y` per lane (`minpd`), the scalar path's `min`.
+    #[inline(always)]
+    pub(crate) fn min(self, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_min_pd(self.0, y.0)) }
+    }
+
+    /// `x > y ? x : y` per lane (`maxpd`), the scalar path's `max`.
+    #[inline(always)]
+    pub(crate) fn max(self, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_max_pd(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn sqrt(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_sqrt_pd(self.0)) }
+    }
+
+    /// `self * b + c` rounded once.
+    #[inline(always)]
+    pub(crate) fn mul_add(self, b: F, c: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_fmadd_pd(self.0, b.0, c.0)) }
+    }
+
+    /// `+-1` with the sign of `self`.
+    #[inline(always)]
+    pub(crate) fn sign_one(self) -> F {
+        // SAFETY: the invariant.
+        unsafe {
+            let sign = _mm256_and_pd(self.0, _mm256_set1_pd(-0.0));
+            F(_mm256_or_pd(sign, _mm256_set1_pd(1.0)))
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn lt(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn le(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_LE_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn eq(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn gt(self, y: F) -> M {
+        y.lt(self)
+    }
+
+    #[inline(always)]
+    pub(crate) fn ge(self, y: F) -> M {
+        y.le(self)
+    }
+}
+
+macro_rules! binary {
+    ($tr:ident, $f:ident, $op:ident) => {
+        impl $tr for F {
+            type Output = F;
+            #[inline(always)]
+            fn $f(self, y: F) -> F {
+                // SAFETY: the invariant.
+                unsafe { F($op(self.0, y.0)) }
+            }
+        }
+    };
+}
+binary!(Add, add, _mm256_add_pd);
+binary!(Sub, sub, _mm256_sub_pd);
+binary!(Mul, mul, _mm256_mul_pd);
+binary!(Div, div, _mm256_div_pd);
+
+impl Neg for F {
+    type Output = F;
+    #[inline(always)]
+    fn neg(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0))) }
+    }
+}
+
+impl M {
+    /// A value under the invariant (so no promise needed).
+    #[inline(always)]
+    pub(crate) fn like(&self, x: f64) -> F {
+        // SAFETY: `self` exists, so the CPU has AVX2 (the type's invariant).
+        unsafe { F::splat(x) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn and(self, o: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_and_pd(self.0, o.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn or(self, o: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_or_pd(self.0, o.0)) }
+    }
+
+    /// Lanes where the two masks differ.
+    #[inline(always)]
+    pub(crate) fn xor(self, o: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_xor_pd(self.0, o.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn not(self) -> M {
+        // SAFETY: the invariant.
+        unsafe {
+            M(_mm256_xor_pd(
+                self.0,
+                _mm256_castsi256_pd(_mm256_set1_epi64x(-1)),
+            ))
+        }
+    }
+
+    /// Bit `l` set when lane `l` is.
+    #[inline(always)]
+    pub(crate) fn bits(self) -> u32 {
+        // SAFETY: the invariant.
+        unsafe { _mm256_movemask_pd(self.0) as u32 }
+    }
+
+    /// `if self { x } else { y }` per lane.
+    #[inline(always)]
+    pub(crate) fn sel(self, x: F, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_blendv_pd(y.0, x.0, self.0)) }
+    }
+
+    /// `if self { x } else { y }` per lane, of masks.
+    #[inline(always)]
+    pub(crate) fn selm(self, x: M, y: M) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_blendv_pd(y.0, x.0, self.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn selw(self, x: &W, y: &W) -> W {
+        W {
+            x: self.sel(x.x, y.x),
+            y: self.sel(x.y, y.y),
+            z: self.sel(x.z, y.z),
+        }
+    }
+}
+
+/// One of three per lane: `x` where `m0`, else `y` where `m1`, else `z`.
+#[inline(always)]
+pub(crate) fn sel3(m0: M, m1: M, x: F, y: F, z: F) -> F {
+    m0.sel(x, m1.sel(y, z))
+}
+
+#[inline(always)]
+pub(crate) fn sel3w(m0: M, m1: M, x: &W, y: &W, z: &W) -> W {
+    m0.selw(x, &m1.selw(y, z))
+}
+
+/// A 3-vector per lane.
+#[derive(Clone, Copy)]
+pub(crate) struct W {
+    pub(crate) x: F,
+    pub(crate) y: F,
+    pub(crate) z: F,
+}
+
+impl W {
+    #[inline(always)]
+    pub(crate) fn sub(&self, o: &W) -> W {
+        W {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+
+    /// `self + o * t` (nalgebra's `p + v * t`: the product rounded, then the sum).
+    #[inline(always)]
+    pub(crate) fn add_scaled(&self, o: &W, t: F) -> W {
+        W {
+            x: self.x + o.x * t,
+            y: self.y + o.y * t,
+            z: self.z + o.z * t,
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn scale(&self, t: F) -> W {
+        W {
+            x: self.x * t,
+            y: self.y * t,
+            z: self.z * t,
+        }
+    }
+
+    /// nalgebra's `cross`, component by component.
+    #[inline(always)]
+    pub(crate) fn cross(&self, o: &W) -> W {
+        W {
+            x: self.y * o.z - self.z * o.y,
+            y: self.z * o.x - self.x * o.z,
+            z: self.x * o.y - self.y * o.x,
+        }
+    }
+
+    /// nalgebra's `dot` for 3-vectors: `(x x' + y y') + z z'`.
+    #[inline(always)]
+    pub(crate) fn dot(&self, o: &W) -> F {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// `self . |o|`.
+    #[inline(always)]
+    pub(crate) fn dot_abs(&self, o: &W) -> F {
+        self.x * o.x.abs() + self.y * o.y.abs() + self.z * o.z.abs()
+    }
+
+    #[inline(always)]
+    pub(crate) fn norm_squared(&self) -> F {
+        self.dot(self)
+    }
+
+    /// The largest magnitude of a component.
+    #[inline(always)]
+    pub(crate) fn amax(&self) -> F {
+        self.x.abs().max(self.y.abs()).max(self.z.abs())
+    }
+}
+
+/// The three vertices of each lane's triangle, as lanes.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[inline(always)]
+pub(crate) unsafe fn load(t: &[[P3; 3]; LANES]) -> [W; 3] {
+    let mut v = [[[0.0; LANES]; 3]; 3];
+    for (l, t) in t.iter().enumerate() {
+        for k in 0..3 {
+            for m in 0..3 {
+                v[k][m][l] = t[k][m];
+            }
+        }
+    }
+    // SAFETY: the caller's promise.
+    unsafe {
+        [
+            W {
+                x: F::new(v[0][0]),
+                y: F::new(v[0][1]),
+                z: F::new(v[0][2]),
+            },
+            W {
+                x: F::new(v[1][0]),
+                y: F::new(v[1][1]),
+                z: F::new(v[1][2]),
+            },
+            W {
+                x: F::new(v[2][0]),
+                y: F::new(v[2][1]),
+                z: F::new(v[2][2]),
+            },
+        ]
+    }
+}

@@ -1,0 +1,145 @@
+//! The exact triangle test of four pairs at once, for the pairs whose answer floating
+//! point certifies: step 5's common case at epsilon 0 (two triangles of different bodies
+//! in general position). A lane is decided only from signs that are certain: the planes'
+//! filter of [`super::Plane::side`] (the same bound) rejects pairs with one triangle
+//! strictly on one side of the other's plane; when all six signs are certain and mixed,
+//! Guigue and Devillers' two orientations (after the same permutation of the vertices as
+//! the scalar test, by blends) are evaluated with Shewchuk's static filter (the bound of
+//! `predicates::orient3d_filtered`) and decide when it certifies them. Every other lane
+//! (a vertex on or near the other's plane, a flat triangle, an orientation within its
+//! error bound) is left undecided, for the scalar exact test: so the answer is always the
+//! exact one, and the same as [`super::triangles_intersect`]'s.
+
+use super::PLANE_SLACK;
+use crate::geom::lanes::{load, sel3w, LANES, M, W};
+use crate::geom::predicates::P3;
+
+/// A triangle's plane as [`super::Plane`]: a vertex, the normal, the scale of its error.
+struct Plane {
+    o: W,
+    n: W,
+    perm: W,
+}
+
+impl Plane {
+    #[inline(always)]
+    fn of(t: &[W; 3]) -> Plane {
+        let e = t[1].sub(&t[0]);
+        let f = t[2].sub(&t[0]);
+        Plane {
+            o: t[0],
+            n: e.cross(&f),
+            perm: W {
+                x: (e.y * f.z).abs() + (e.z * f.y).abs(),
+                y: (e.z * f.x).abs() + (e.x * f.z).abs(),
+                z: (e.x * f.y).abs() + (e.y * f.x).abs(),
+            },
+        }
+    }
+
+    /// Per point: (certainly `orient3d < 0`, certainly `orient3d > 0`), as
+    /// [`super::Plane::side`] answers -1 and 1.
+    #[inline(always)]
+    fn side(&self, p: &W) -> (M, M) {
+        let w = p.sub(&self.o);
+        let s = self.n.dot(&w);
+        let bound = self.o.x.like(PLANE_SLACK) * self.perm.dot_abs(&w);
+        (s.gt(bound), s.lt(-bound))
+    }
+}
+
+/// `orient3d(a, b, c, d)` where the static filter certifies its sign: (certainly
+/// negative, certainly positive).
+#[inline(always)]
+fn orient3d(a: &W, b: &W, c: &W, d: &W) -> (M, M) {
+    // (7 + 56 eps) eps, eps = 2^-53: Shewchuk's `o3derrboundA`, as in predicates.rs.
+    const EPS: f64 = 0.000_000_000_000_000_111_022_302_462_515_65;
+    const BOUND_A: f64 = (7.0 + 56.0 * EPS) * EPS;
+    let (ad, bd, cd) = (a.sub(d), b.sub(d), c.sub(d));
+    let (bdxcdy, cdxbdy) = (bd.x * cd.y, cd.x * bd.y);
+    let (cdxady, adxcdy) = (cd.x * ad.y, ad.x * cd.y);
+    let (adxbdy, bdxady) = (ad.x * bd.y, bd.x * ad.y);
+    let det = ad.z * (bdxcdy - cdxbdy) + bd.z * (cdxady - adxcdy) + cd.z * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * ad.z.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bd.z.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cd.z.abs();
+    let err = det.like(BOUND_A) * permanent;
+    (det.lt(-err), det.gt(err))
+}
+
+/// The vertex alone on its side, from the three "positive" masks of mixed signs:
+/// (vertex 0, vertex 1; neither: vertex 2).
+#[inline(always)]
+fn lonely(p: [M; 3]) -> (M, M) {
+    let m0 = p[1].xor(p[2]).not();
+    let m1 = m0.not().and(p[0].xor(p[2]).not());
+    (m0, m1)
+}
+
+/// Pair `l` is `(a[l], b[l])`. Returns (decided, meets) as lane bit masks: bit `l` of
+/// `decided` when lane `l`'s answer was certain here, bit `l` of `meets` when, moreover,
+/// the closed triangles intersect. Undecided lanes need the scalar exact test.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn intersect(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES]) -> (u32, u32) {
+    // SAFETY: the caller's promise.
+    let (ta, tb) = unsafe { (load(a), load(b)) };
+    let (pa, pb) = (Plane::of(&ta), Plane::of(&tb));
+    // Signs of orient3d(a, b_k) and orient3d(b, a_k): (negative, positive) where certain.
+    let (bn0, bp0) = pa.side(&tb[0]);
+    let (bn1, bp1) = pa.side(&tb[1]);
+    let (bn2, bp2) = pa.side(&tb[2]);
+    let (an0, ap0) = pb.side(&ta[0]);
+    let (an1, ap1) = pb.side(&ta[1]);
+    let (an2, ap2) = pb.side(&ta[2]);
+    let apart = bn0
+        .and(bn1)
+        .and(bn2)
+        .or(bp0.and(bp1).and(bp2))
+        .or(an0.and(an1).and(an2))
+        .or(ap0.and(ap1).and(ap2));
+    let certain = bn0
+        .or(bp0)
+        .and(bn1.or(bp1))
+        .and(bn2.or(bp2))
+        .and(an0.or(ap0))
+        .and(an1.or(ap1))
+        .and(an2.or(ap2));
+    // General position (all six certain, neither triangle on one side): the scalar
+    // `general_position`'s permutation. a's lone vertex first (p1, q1, r1), by the
+    // pattern of a's negative signs; when its sign is positive, b's q and r swap.
+    let (k0, k1) = lonely([an0, an1, an2]);
+    let p1 = sel3w(k0, k1, &ta[0], &ta[1], &ta[2]);
+    let q1 = sel3w(k0, k1, &ta[1], &ta[2], &ta[0]);
+    let r1 = sel3w(k0, k1, &ta[2], &ta[0], &ta[1]);
+    let swap_b = k0.and(ap0).or(k1.and(ap1)).or(k0.or(k1).not().and(ap2));
+    // b with its vertices 1 and 2 swapped where `swap_b`, and their negative signs.
+    let lb = [
+        tb[0],
+        swap_b.selw(&tb[2], &tb[1]),
+        swap_b.selw(&tb[1], &tb[2]),
+    ];
+    let nb = [bn0, swap_b.selm(bn2, bn1), swap_b.selm(bn1, bn2)];
+    let pbs = [bp0, swap_b.selm(bp2, bp1), swap_b.selm(bp1, bp2)];
+    // Then b's lone vertex first (p2, q2, r2); when its sign is positive, q1 and r1 swap.
+    let (j0, j1) = lonely(nb);
+    let p2 = sel3w(j0, j1, &lb[0], &lb[1], &lb[2]);
+    let q2 = sel3w(j0, j1, &lb[1], &lb[2], &lb[0]);
+    let r2 = sel3w(j0, j1, &lb[2], &lb[0], &lb[1]);
+    let swap_a = j0
+        .and(pbs[0])
+        .or(j1.and(pbs[1]))
+        .or(j0.or(j1).not().and(pbs[2]));
+    let (q1, r1) = (swap_a.selw(&r1, &q1), swap_a.selw(&q1, &r1));
+    // The scalar CHECK_MIN_MAX: orient3d(p2, p1, q2, q1) <= 0 and orient3d(p2, r1, r2,
+    // p1) <= 0 (neither is zero in general position).
+    let (o1n, o1p) = orient3d(&p2, &p1, &q2, &q1);
+    let (o2n, o2p) = orient3d(&p2, &r1, &r2, &p1);
+    let general = certain.and(apart.not());
+    let decided_gd = o1p.or(o2p).or(o1n.and(o2n));
+    let decided = apart.or(general.and(decided_gd)).bits();
+    let meets = general.and(o1n).and(o2n).bits();
+    (decided, meets & decided)
+}
