@@ -324,11 +324,19 @@ impl Run<'_, '_> {
             s.cprep.resize(others.len(), Stamped::default());
         }
         #[cfg(target_arch = "x86_64")]
-        if h == 0.0 && std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
-        {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { exact_by_four(s, (ref_range, other_range), stamp, reference, (id, m), out) };
-            return;
+        if h == 0.0 {
+            if let Some(fours) = crate::geom::tritri::four::Fours::new() {
+                exact_by_four(
+                    s,
+                    fours,
+                    (ref_range, other_range),
+                    stamp,
+                    reference,
+                    (id, m),
+                    out,
+                );
+                return;
+            }
         }
         let symmetric = h > 0.0 && q.symmetric;
         s.cells.clear();
@@ -367,35 +375,26 @@ impl Run<'_, '_> {
 /// pairs at a time: each batch through the four-lane test (`tritri/four.rs`), which decides
 /// the pairs that floating point certifies, and the others (and every quad) through
 /// [`Prepared::meets`]: the same exact answer as the loop in [`Run::narrow`].
-///
-/// # Safety
-/// The CPU has AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn exact_by_four(
+fn exact_by_four(
     s: &mut Scratch,
+    mut fours: crate::geom::tritri::four::Fours<(u32, u32)>,
     (refs, others): (std::ops::Range<usize>, std::ops::Range<usize>),
     stamp: u64,
     reference: &Mesh,
     (id, m): (u32, &Mesh),
     out: &mut Vec<Contact>,
 ) {
-    use crate::geom::tritri::four;
-    const N: usize = 4;
     let (refs, others) = (&s.refs[refs], &s.other_polys[others]);
-    let (vprep, cprep, box_pairs) = (&mut s.vprep, &mut s.cprep, &s.box_pairs);
-    let mut a = [[[0.0; 3]; 3]; N];
-    let mut b = [[[0.0; 3]; 3]; N];
-    let mut at = [(0u32, 0u32); N];
-    let mut n = 0;
+    let (vprep, cprep) = (&mut s.vprep, &mut s.cprep);
     let contact = |v: u32, c: u32| Contact {
         other_mesh: id,
         reference_polygon: reference.poly_ids[refs[v as usize] as usize],
         other_polygon: m.poly_ids[others[c as usize] as usize],
     };
     // Every box pair, then `None`: the last batch.
-    for next in box_pairs.iter().map(Some).chain([None]) {
-        if let Some(&(v, c)) = next {
+    for next in s.box_pairs.iter().map(Some).chain([None]) {
+        let done = if let Some(&(v, c)) = next {
             let pv = vprep[v as usize].get(stamp, reference, refs[v as usize]);
             let pc = cprep[c as usize].get(stamp, m, others[c as usize]);
             if pv.poly.n != 1 || pc.poly.n != 1 {
@@ -404,32 +403,21 @@ unsafe fn exact_by_four(
                 }
                 continue;
             }
-            (a[n], b[n], at[n]) = (pv.poly.tris[0], pc.poly.tris[0], (v, c));
-            n += 1;
-            if n < N {
-                continue;
+            match fours.push(&pv.poly.tris[0], &pc.poly.tris[0], (v, c)) {
+                Some(done) => done,
+                None => continue,
             }
-        } else if n == 0 {
-            break;
         } else {
-            // The last batch: its unused lanes repeat the first (answers dropped).
-            for l in n..N {
-                (a[l], b[l]) = (a[0], b[0]);
-            }
-        }
-        // SAFETY: the caller's promise.
-        let (decided, meets) = unsafe { four::intersect(&a, &b) };
-        for (l, &(v, c)) in at.iter().enumerate().take(n) {
-            let yes = if decided & (1 << l) != 0 {
-                meets & (1 << l) != 0
-            } else {
+            fours.flush()
+        };
+        for ((v, c), answer) in done.answers() {
+            let meets = answer.unwrap_or_else(|| {
                 let pv = vprep[v as usize].get(stamp, reference, refs[v as usize]);
                 pv.meets(&cprep[c as usize].p, None)
-            };
-            if yes {
+            });
+            if meets {
                 out.push(contact(v, c));
             }
         }
-        n = 0;
     }
 }

@@ -143,3 +143,78 @@ pub(crate) unsafe fn intersect(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES]) -> (u
     let meets = general.and(o1n).and(o2n).bits();
     (decided, meets & decided)
 }
+
+/// Triangle pairs gathered four at a time for [`intersect`]. A value exists only on a CPU
+/// with AVX2 and FMA ([`Fours::new`] checks), so its methods are safe.
+pub(crate) struct Fours<K: Copy + Default> {
+    a: [[P3; 3]; LANES],
+    b: [[P3; 3]; LANES],
+    at: [K; LANES],
+    n: usize,
+}
+
+/// The answers of a batch: `(key, Some(meets))` where the lanes decided, `(key, None)`
+/// where the scalar exact test must.
+pub(crate) struct Decided<K: Copy> {
+    at: [K; LANES],
+    n: usize,
+    decided: u32,
+    meets: u32,
+}
+
+impl<K: Copy> Decided<K> {
+    /// Each pair of the batch in the order it was pushed.
+    pub(crate) fn answers(&self) -> impl Iterator<Item = (K, Option<bool>)> + '_ {
+        (0..self.n).map(|l| {
+            let decided = self.decided & (1 << l) != 0;
+            (self.at[l], decided.then_some(self.meets & (1 << l) != 0))
+        })
+    }
+}
+
+impl<K: Copy + Default> Fours<K> {
+    /// `None` on a CPU without AVX2 and FMA.
+    pub(crate) fn new() -> Option<Fours<K>> {
+        (std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")).then(|| {
+            Fours {
+                a: [[[0.0; 3]; 3]; LANES],
+                b: [[[0.0; 3]; 3]; LANES],
+                at: [K::default(); LANES],
+                n: 0,
+            }
+        })
+    }
+
+    /// Adds the pair `(a, b)` under `key`; when four are gathered, their answers.
+    #[inline]
+    pub(crate) fn push(&mut self, a: &[P3; 3], b: &[P3; 3], key: K) -> Option<Decided<K>> {
+        (self.a[self.n], self.b[self.n], self.at[self.n]) = (*a, *b, key);
+        self.n += 1;
+        (self.n == LANES).then(|| self.flush())
+    }
+
+    /// The answers of the pairs gathered so far (none: an empty batch).
+    pub(crate) fn flush(&mut self) -> Decided<K> {
+        let n = std::mem::take(&mut self.n);
+        if n == 0 {
+            return Decided {
+                at: self.at,
+                n,
+                decided: 0,
+                meets: 0,
+            };
+        }
+        // Unused lanes repeat the first (their answers are dropped).
+        for l in n..LANES {
+            (self.a[l], self.b[l]) = (self.a[0], self.b[0]);
+        }
+        // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`new`).
+        let (decided, meets) = unsafe { intersect(&self.a, &self.b) };
+        Decided {
+            at: self.at,
+            n,
+            decided,
+            meets,
+        }
+    }
+}
