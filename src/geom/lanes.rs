@@ -344,3 +344,42 @@ pub(crate) unsafe fn load(t: &[[P3; 3]; LANES]) -> [W; 3] {
         ]
     }
 }
+
+/// A triangle's plane per lane, as `tritri::Plane` and the contact fast path make it: a
+/// vertex `o`, the edges `e = t1 - t0` and `f = t2 - t0`, the normal `n = e x f` (not
+/// normalized) and, per component, the sum of the magnitudes of the two products behind it
+/// (`perm`: the scale of its rounding error).
+pub(crate) struct Plane {
+    pub(crate) o: W,
+    pub(crate) e: W,
+    pub(crate) f: W,
+    pub(crate) n: W,
+    pub(crate) perm: W,
+}
+
+impl Plane {
+    #[inline(always)]
+    pub(crate) fn of(t: &[W; 3]) -> Plane {
+        let e = t[1].sub(&t[0]);
+        let f = t[2].sub(&t[0]);
+        Plane {
+            o: t[0],
+            e,
+            f,
+            n: e.cross(&f),
+            perm: W {
+                x: (e.y * f.z).abs() + (e.z * f.y).abs(),
+                y: (e.z * f.x).abs() + (e.x * f.z).abs(),
+                z: (e.x * f.y).abs() + (e.y * f.x).abs(),
+            },
+        }
+    }
+
+    /// `p`'s signed distance `n . (p - o)` (times `|n|`; of the sign opposite to
+    /// `orient3d(t0, t1, t2, p)`) and the scale of its rounding error, `perm . |p - o|`.
+    #[inline(always)]
+    pub(crate) fn distance(&self, p: &W) -> (F, F) {
+        let w = p.sub(&self.o);
+        (self.n.dot(&w), self.perm.dot_abs(&w))
+    }
+}

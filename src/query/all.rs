@@ -913,31 +913,47 @@ pub fn self_pairs(
         if let Some(mut fours) = crate::geom::tritri::four::Fours::<(u32, u32)>::new() {
             // Four pairs at a time where floating point certifies the answer, the others
             // (and quads) by the exact test: the same answer as the loop below.
-            for next in s.apart.iter().map(Some).chain([None]) {
-                let done = if let Some(&(p, q)) = next {
-                    prepare(m, p as usize, stamp, &mut s.prepared);
-                    prepare(m, q as usize, stamp, &mut s.prepared);
-                    let (a, b) = (&s.prepared[p as usize].1, &s.prepared[q as usize].1);
-                    if a.poly.n != 1 || b.poly.n != 1 {
-                        if a.meets(b, None) {
-                            push(p, q);
-                        }
-                        continue;
+            struct Apart<'a, F> {
+                m: &'a Mesh,
+                stamp: u64,
+                prepared: &'a mut [(u64, Prepared)],
+                push: F,
+            }
+            impl<F: FnMut(u32, u32)> crate::geom::tritri::four::Judge<(u32, u32)> for Apart<'_, F> {
+                #[inline]
+                fn triangles(
+                    &mut self,
+                    (p, q): (u32, u32),
+                    a: &mut [P3; 3],
+                    b: &mut [P3; 3],
+                ) -> bool {
+                    prepare(self.m, p as usize, self.stamp, self.prepared);
+                    prepare(self.m, q as usize, self.stamp, self.prepared);
+                    let (x, y) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
+                    if x.poly.n != 1 || y.poly.n != 1 {
+                        return false;
                     }
-                    match fours.push(&a.poly.tris[0], &b.poly.tris[0], (p, q)) {
-                        Some(done) => done,
-                        None => continue,
-                    }
-                } else {
-                    fours.flush()
-                };
-                for ((p, q), answer) in done.answers() {
-                    let (a, b) = (&s.prepared[p as usize].1, &s.prepared[q as usize].1);
-                    if answer.unwrap_or_else(|| a.meets(b, None)) {
-                        push(p, q);
-                    }
+                    (*a, *b) = (x.poly.tris[0], y.poly.tris[0]);
+                    true
+                }
+                #[inline]
+                fn exact(&mut self, (p, q): (u32, u32)) -> bool {
+                    // (Prepared by `triangles`, always asked first.)
+                    let (a, b) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
+                    a.meets(b, None)
+                }
+                #[inline]
+                fn found(&mut self, (p, q): (u32, u32)) {
+                    (self.push)(p, q);
                 }
             }
+            let mut judge = Apart {
+                m,
+                stamp,
+                prepared: &mut s.prepared,
+                push: &mut push,
+            };
+            fours.decide(s.apart.iter().copied(), &mut judge);
             st.self_narrow_nanos += nanos_since(t);
             st.self_found += out.len() - found;
             return;

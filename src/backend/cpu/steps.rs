@@ -17,6 +17,7 @@ use super::lanes::Lanes;
 use super::BoxCache;
 use crate::backend::{Contact, QueryMeshes, QueryStats};
 use crate::geom::polygon::Prepared;
+use crate::geom::predicates::P3;
 use crate::geom::sweep::Sweep;
 use crate::geom::volume::Cell;
 use crate::geom::Aabb;
@@ -372,8 +373,8 @@ impl Run<'_, '_> {
 }
 
 /// Step 5's narrow test at epsilon 0 for the box pairs of one leaf pair, four triangle
-/// pairs at a time: each batch through the four-lane test (`tritri/four.rs`), which decides
-/// the pairs that floating point certifies, and the others (and every quad) through
+/// pairs at a time ([`Fours::decide`](crate::geom::tritri::four::Fours::decide)): the pairs
+/// that floating point certifies in the lanes, the others (and every quad) by
 /// [`Prepared::meets`]: the same exact answer as the loop in [`Run::narrow`].
 #[cfg(target_arch = "x86_64")]
 fn exact_by_four(
@@ -385,39 +386,59 @@ fn exact_by_four(
     (id, m): (u32, &Mesh),
     out: &mut Vec<Contact>,
 ) {
-    let (refs, others) = (&s.refs[refs], &s.other_polys[others]);
-    let (vprep, cprep) = (&mut s.vprep, &mut s.cprep);
-    let contact = |v: u32, c: u32| Contact {
-        other_mesh: id,
-        reference_polygon: reference.poly_ids[refs[v as usize] as usize],
-        other_polygon: m.poly_ids[others[c as usize] as usize],
-    };
-    // Every box pair, then `None`: the last batch.
-    for next in s.box_pairs.iter().map(Some).chain([None]) {
-        let done = if let Some(&(v, c)) = next {
-            let pv = vprep[v as usize].get(stamp, reference, refs[v as usize]);
-            let pc = cprep[c as usize].get(stamp, m, others[c as usize]);
-            if pv.poly.n != 1 || pc.poly.n != 1 {
-                if pv.meets(pc, None) {
-                    out.push(contact(v, c));
-                }
-                continue;
-            }
-            match fours.push(&pv.poly.tris[0], &pc.poly.tris[0], (v, c)) {
-                Some(done) => done,
-                None => continue,
-            }
-        } else {
-            fours.flush()
-        };
-        for ((v, c), answer) in done.answers() {
-            let meets = answer.unwrap_or_else(|| {
-                let pv = vprep[v as usize].get(stamp, reference, refs[v as usize]);
-                pv.meets(&cprep[c as usize].p, None)
-            });
-            if meets {
-                out.push(contact(v, c));
-            }
+    /// The leaf pair's polygons, prepared on demand, and where contacts go.
+    struct Five<'a> {
+        refs: &'a [u32],
+        others: &'a [u32],
+        vprep: &'a mut [Stamped],
+        cprep: &'a mut [Stamped],
+        stamp: u64,
+        reference: &'a Mesh,
+        other: (u32, &'a Mesh),
+        out: &'a mut Vec<Contact>,
+    }
+    impl Five<'_> {
+        #[inline]
+        fn both(&mut self, (v, c): (u32, u32)) -> (&Prepared, &Prepared) {
+            let (v, c) = (v as usize, c as usize);
+            let pv = self.vprep[v].get(self.stamp, self.reference, self.refs[v]);
+            let pc = self.cprep[c].get(self.stamp, self.other.1, self.others[c]);
+            (pv, pc)
         }
     }
+    impl crate::geom::tritri::four::Judge<(u32, u32)> for Five<'_> {
+        #[inline]
+        fn triangles(&mut self, key: (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+            let (pv, pc) = self.both(key);
+            if pv.poly.n != 1 || pc.poly.n != 1 {
+                return false;
+            }
+            (*a, *b) = (pv.poly.tris[0], pc.poly.tris[0]);
+            true
+        }
+        #[inline]
+        fn exact(&mut self, key: (u32, u32)) -> bool {
+            let (pv, pc) = self.both(key);
+            pv.meets(pc, None)
+        }
+        #[inline]
+        fn found(&mut self, (v, c): (u32, u32)) {
+            self.out.push(Contact {
+                other_mesh: self.other.0,
+                reference_polygon: self.reference.poly_ids[self.refs[v as usize] as usize],
+                other_polygon: self.other.1.poly_ids[self.others[c as usize] as usize],
+            });
+        }
+    }
+    let mut judge = Five {
+        refs: &s.refs[refs],
+        others: &s.other_polys[others],
+        vprep: &mut s.vprep,
+        cprep: &mut s.cprep,
+        stamp,
+        reference,
+        other: (id, m),
+        out,
+    };
+    fours.decide(s.box_pairs.iter().copied(), &mut judge);
 }

@@ -21,7 +21,7 @@
 //! Written with the AVX2 lanes of `geom/lanes.rs` (no closures: see there why).
 
 use super::{ContactGeometry, FACE_SLACK, REFINE};
-use crate::geom::lanes::{load, sel3, sel3w, F, M, W};
+use crate::geom::lanes::{load, sel3, sel3w, Plane, F, M, W};
 use crate::geom::predicates::P3;
 
 /// Pairs per pass.
@@ -59,33 +59,11 @@ fn diff_of_products(a: F, b: F, c: F, d: F) -> (F, F) {
     (nh, e3 + (e1 - e2))
 }
 
-/// A triangle's plane as the scalar path's `Face`.
-struct Face {
-    o: W,
-    e: W,
-    f: W,
-    n: W,
-    perm: W,
-}
+/// A triangle's plane, as the scalar path's `Face`.
+type Face = Plane;
 
-impl Face {
-    #[inline(always)]
-    fn of(t: &[W; 3]) -> Face {
-        let e = t[1].sub(&t[0]);
-        let f = t[2].sub(&t[0]);
-        Face {
-            o: t[0],
-            e,
-            f,
-            n: e.cross(&f),
-            perm: W {
-                x: (e.y * f.z).abs() + (e.z * f.y).abs(),
-                y: (e.z * f.x).abs() + (e.x * f.z).abs(),
-                z: (e.x * f.y).abs() + (e.y * f.x).abs(),
-            },
-        }
-    }
-
+/// What the contact kernel asks of a plane.
+impl Plane {
     /// The points' signed distances (times `|n|`), the scales of their rounding errors,
     /// and the lanes where every side is certain and not all are the same (the triangle
     /// crosses the plane).
@@ -104,9 +82,7 @@ impl Face {
     /// then every intrinsic in it is a call.)
     #[inline(always)]
     fn side(&self, p: &W) -> (F, F, M) {
-        let w = p.sub(&self.o);
-        let d = self.n.dot(&w);
-        let scale = self.perm.dot_abs(&w);
+        let (d, scale) = self.distance(p);
         (d, scale, d.abs().gt(self.o.x.like(FACE_SLACK) * scale))
     }
 

@@ -11,39 +11,17 @@
 //! exact one, and the same as [`super::triangles_intersect`]'s.
 
 use super::PLANE_SLACK;
-use crate::geom::lanes::{load, sel3w, LANES, M, W};
+use crate::geom::lanes::{load, sel3w, Plane, LANES, M, W};
 use crate::geom::predicates::P3;
 
-/// A triangle's plane as [`super::Plane`]: a vertex, the normal, the scale of its error.
-struct Plane {
-    o: W,
-    n: W,
-    perm: W,
-}
-
+/// What the exact test asks of a plane.
 impl Plane {
-    #[inline(always)]
-    fn of(t: &[W; 3]) -> Plane {
-        let e = t[1].sub(&t[0]);
-        let f = t[2].sub(&t[0]);
-        Plane {
-            o: t[0],
-            n: e.cross(&f),
-            perm: W {
-                x: (e.y * f.z).abs() + (e.z * f.y).abs(),
-                y: (e.z * f.x).abs() + (e.x * f.z).abs(),
-                z: (e.x * f.y).abs() + (e.y * f.x).abs(),
-            },
-        }
-    }
-
     /// Per point: (certainly `orient3d < 0`, certainly `orient3d > 0`), as
     /// [`super::Plane::side`] answers -1 and 1.
     #[inline(always)]
-    fn side(&self, p: &W) -> (M, M) {
-        let w = p.sub(&self.o);
-        let s = self.n.dot(&w);
-        let bound = self.o.x.like(PLANE_SLACK) * self.perm.dot_abs(&w);
+    fn certain_side(&self, p: &W) -> (M, M) {
+        let (s, scale) = self.distance(p);
+        let bound = self.o.x.like(PLANE_SLACK) * scale;
         (s.gt(bound), s.lt(-bound))
     }
 }
@@ -88,12 +66,12 @@ pub(crate) unsafe fn intersect(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES]) -> (u
     let (ta, tb) = unsafe { (load(a), load(b)) };
     let (pa, pb) = (Plane::of(&ta), Plane::of(&tb));
     // Signs of orient3d(a, b_k) and orient3d(b, a_k): (negative, positive) where certain.
-    let (bn0, bp0) = pa.side(&tb[0]);
-    let (bn1, bp1) = pa.side(&tb[1]);
-    let (bn2, bp2) = pa.side(&tb[2]);
-    let (an0, ap0) = pb.side(&ta[0]);
-    let (an1, ap1) = pb.side(&ta[1]);
-    let (an2, ap2) = pb.side(&ta[2]);
+    let (bn0, bp0) = pa.certain_side(&tb[0]);
+    let (bn1, bp1) = pa.certain_side(&tb[1]);
+    let (bn2, bp2) = pa.certain_side(&tb[2]);
+    let (an0, ap0) = pb.certain_side(&ta[0]);
+    let (an1, ap1) = pb.certain_side(&ta[1]);
+    let (an2, ap2) = pb.certain_side(&ta[2]);
     let apart = bn0
         .and(bn1)
         .and(bn2)
@@ -185,14 +163,6 @@ impl<K: Copy + Default> Fours<K> {
         })
     }
 
-    /// Adds the pair `(a, b)` under `key`; when four are gathered, their answers.
-    #[inline]
-    pub(crate) fn push(&mut self, a: &[P3; 3], b: &[P3; 3], key: K) -> Option<Decided<K>> {
-        (self.a[self.n], self.b[self.n], self.at[self.n]) = (*a, *b, key);
-        self.n += 1;
-        (self.n == LANES).then(|| self.flush())
-    }
-
     /// The answers of the pairs gathered so far (none: an empty batch).
     pub(crate) fn flush(&mut self) -> Decided<K> {
         let n = std::mem::take(&mut self.n);
@@ -215,6 +185,51 @@ impl<K: Copy + Default> Fours<K> {
             n,
             decided,
             meets,
+        }
+    }
+}
+
+/// What [`Fours::decide`] asks of its caller about each pair (named by a key).
+pub(crate) trait Judge<K> {
+    /// When both polygons of the pair are triangles (then the lanes may decide it): writes
+    /// them to `a` and `b` and answers `true`; `false` for a pair with a quad.
+    fn triangles(&mut self, key: K, a: &mut [P3; 3], b: &mut [P3; 3]) -> bool;
+    /// The exact test: for the pairs the lanes leave undecided, and those with a quad.
+    fn exact(&mut self, key: K) -> bool;
+    /// A pair that meets.
+    fn found(&mut self, key: K);
+}
+
+impl<K: Copy + Default> Fours<K> {
+    /// Every pair of `keys`: `judge.found` for each that meets (the exact answer; in
+    /// batches of four, so not quite in the order of `keys`).
+    #[inline]
+    pub(crate) fn decide(&mut self, keys: impl Iterator<Item = K>, judge: &mut impl Judge<K>) {
+        for next in keys.map(Some).chain([None]) {
+            let done = match next {
+                Some(key) => {
+                    // Written in place: the next lane of the batch.
+                    let n = self.n;
+                    if !judge.triangles(key, &mut self.a[n], &mut self.b[n]) {
+                        if judge.exact(key) {
+                            judge.found(key);
+                        }
+                        continue;
+                    }
+                    self.at[n] = key;
+                    self.n += 1;
+                    if self.n < LANES {
+                        continue;
+                    }
+                    self.flush()
+                }
+                None => self.flush(),
+            };
+            for (key, answer) in done.answers() {
+                if answer.unwrap_or_else(|| judge.exact(key)) {
+                    judge.found(key);
+                }
+            }
         }
     }
 }
