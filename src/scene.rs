@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
-use crate::geom::contact::{contact_geometry, contact_geometry_intersecting, ContactGeometry};
+use crate::geom::contact::{contact_geometry_many, ContactGeometry};
 use crate::geom::P3;
 use crate::mesh::{Mesh, Positions};
 use crate::query::all::{self as whole, AllStats, BroadPhase, SceneMesh, SelfPrep, SelfScratch};
@@ -727,30 +727,19 @@ impl Scene {
         out.clear();
         try_reserve(&mut out, n, "the contact geometry")?;
         out.resize(n, UNSET);
-        // At epsilon 0 every pair of the answer intersects (the exact test decided it, on
-        // every backend), so the geometry skips that test and takes four triangle pairs
-        // at a time.
+        // Four triangle pairs at a time. At epsilon 0 every pair of the answer intersects
+        // (the exact test decided it, on every backend), so the geometry skips that test.
         let known = self.config.epsilon == 0.0;
         let (meshes, contacts, pairs) = (&self.meshes, &self.contacts, &self.pairs);
         // Entries `out` from pair `base` on.
         let fill = |out: &mut [ContactGeometry], base: usize| -> Result<()> {
             let mut seen: Last = [None; 2];
-            let mut fetch = |i: usize, ta: &mut [[P3; 3]; 2], tb: &mut [[P3; 3]; 2]| {
+            contact_geometry_many(out, known, |i, ta, tb| {
                 let (a, pa, b, pb) = item(last, contacts, pairs, base + i);
                 let na = polygon(meshes, &mut seen, 0, a, pa, ta)?;
                 let nb = polygon(meshes, &mut seen, 1, b, pb, tb)?;
                 Ok((na, nb))
-            };
-            if known {
-                return contact_geometry_intersecting(out, fetch);
-            }
-            let mut ta = [[P3::default(); 3]; 2];
-            let mut tb = [[P3::default(); 3]; 2];
-            for (i, g) in out.iter_mut().enumerate() {
-                let (na, nb) = fetch(i, &mut ta, &mut tb)?;
-                *g = contact_geometry(&ta, na, &tb, nb);
-            }
-            Ok(())
+            })
         };
         match &self.pool {
             Some(pool) if n > PAR_GEOMETRY => pool.install(|| {

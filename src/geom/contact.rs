@@ -14,7 +14,7 @@
 //! permutation by table, no data-dependent branches in the separating-axis search), built
 //! for AVX2 when the CPU has it (the same operations, so the same bits). Many pairs known
 //! to intersect take that fast path four at a time in AVX2 lanes (`four.rs`, through
-//! [`contact_geometry_intersecting`]), again bit for bit. See [`contact_geometry`] for the
+//! [`contact_geometry_many`]), again bit for bit. See [`contact_geometry`] for the
 //! meaning of every output.
 
 use nalgebra::Vector3;
@@ -126,7 +126,7 @@ pub struct ContactGeometry {
 /// **Cost**: two triangles crossing, about 1700 instructions (AVX2 build) including the
 /// exact test; on the heavy case (about 700 crossing pairs) about 160 to 205 ns per pair,
 /// 17 to 20% of the query's time. Pairs known to intersect (a query's at epsilon 0) go
-/// four at a time through [`contact_geometry_intersecting`] instead (what
+/// four at a time through [`contact_geometry_many`] instead (what
 /// `Scene::contact_geometry` does): about 50 to 75 ns per pair, 8 to 9% of the query
 /// (`tests/contact_heavy.rs`, `bench-results/contact.md`).
 pub fn contact_geometry(
@@ -175,20 +175,22 @@ fn contact_geometry_any(
     general(a, na, b, nb)
 }
 
-/// [`contact_geometry`] of many polygon pairs that are each **known to intersect** (decided
-/// by the exact test: the pairs of a query at epsilon 0), entry `i` of `out` for pair `i`,
-/// whose triangles `fetch(i, a, b)` fills (returning `(na, nb)` as `contact_geometry`
-/// takes them; an error stops the call and is returned). The answers are
+/// [`contact_geometry`] of many polygon pairs, entry `i` of `out` for pair `i`, whose
+/// triangles `fetch(i, a, b)` fills (returning `(na, nb)` as `contact_geometry` takes them;
+/// an error stops the call and is returned). `known`: every pair is known to intersect
+/// (decided by the exact test: the pairs of a query at epsilon 0). The answers are
 /// [`contact_geometry`]'s, bit for bit: triangle pairs are gathered four at a time and
 /// computed together by the fast path written over lanes (`four.rs`: the same operations
-/// on the same values, one AVX2 instruction for four pairs; the exact test skipped since
-/// its answer is known); a lane that would need one of the fast path's rare branches, and
-/// every quad, goes through [`contact_geometry`] itself. A pair that does not intersect
-/// after all is answered exactly too (its planes' sides or its cuts on their common line
-/// show it, and it goes through [`contact_geometry`]) unless it misses by less than the
-/// rounding of its cuts.
-pub fn contact_geometry_intersecting<E, F>(
+/// on the same values, one AVX2 instruction for four pairs). When `known`, the exact test
+/// is skipped; otherwise the four-lane exact test (`tritri::four`) picks the lanes that
+/// certainly intersect. A lane that would need one of the fast path's rare branches, a
+/// pair that does not intersect (a band pair) or is not decided in the lanes, and every
+/// quad go through [`contact_geometry`] itself. (Were a pair wrongly `known`, it is still
+/// answered exactly unless it misses by less than the rounding of its cuts: its planes'
+/// sides or its cuts on their common line show it.)
+pub fn contact_geometry_many<E, F>(
     out: &mut [ContactGeometry],
+    known: bool,
     mut fetch: F,
 ) -> Result<(), E>
 where
@@ -197,9 +199,10 @@ where
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has AVX2 and FMA (checked just above).
-        return unsafe { intersecting_avx2(out, &mut fetch) };
+        return unsafe { many_avx2(out, known, &mut fetch) };
     }
     // Without AVX2: one pair at a time.
+    let _ = known;
     let mut ta = [[[0.0; 3]; 3]; 2];
     let mut tb = [[[0.0; 3]; 3]; 2];
     for (i, g) in out.iter_mut().enumerate() {
@@ -209,10 +212,10 @@ where
     Ok(())
 }
 
-/// [`contact_geometry_intersecting`] on a CPU with AVX2 and FMA.
+/// [`contact_geometry_many`] on a CPU with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn intersecting_avx2<E, F>(out: &mut [ContactGeometry], fetch: &mut F) -> Result<(), E>
+unsafe fn many_avx2<E, F>(out: &mut [ContactGeometry], known: bool, fetch: &mut F) -> Result<(), E>
 where
     F: FnMut(usize, &mut [[P3; 3]; 2], &mut [[P3; 3]; 2]) -> Result<(usize, usize), E>,
 {
@@ -230,14 +233,24 @@ where
         b: &[[P3; 3]; N],
         at: &[usize; N],
         n: usize,
+        known: bool,
         out: &mut [ContactGeometry],
     ) {
+        // The lanes that intersect: all when known, else those the exact test's lanes
+        // certify.
+        let crossing = if known {
+            u32::MAX
+        } else {
+            // SAFETY: the caller's promise.
+            let (decided, meets) = unsafe { super::tritri::four::intersect(a, b) };
+            decided & meets
+        };
         // SAFETY: the caller's promise.
         let found = unsafe { four::crossing(a, b) };
         for l in 0..n {
             out[at[l]] = match found[l] {
-                Some(g) => g,
-                None => contact_geometry_any(&[a[l]; 2], 1, &[b[l]; 2], 1),
+                Some(g) if crossing & (1 << l) != 0 => g,
+                _ => contact_geometry_any(&[a[l]; 2], 1, &[b[l]; 2], 1),
             };
         }
     }
@@ -248,7 +261,7 @@ where
             n += 1;
             if n == N {
                 // SAFETY: this function runs only on a CPU with AVX2 and FMA.
-                unsafe { flush(&a, &b, &at, n, out) };
+                unsafe { flush(&a, &b, &at, n, known, out) };
                 n = 0;
             }
         } else {
@@ -261,7 +274,7 @@ where
             (a[l], b[l]) = (a[0], b[0]);
         }
         // SAFETY: as above.
-        unsafe { flush(&a, &b, &at, n, out) };
+        unsafe { flush(&a, &b, &at, n, known, out) };
     }
     Ok(())
 }
@@ -3149,7 +3162,7 @@ mod tests {
             }
         }
         let mut out = vec![geometry(&pairs[0].0, &pairs[0].1); pairs.len()];
-        contact_geometry_intersecting::<(), _>(&mut out, |i, a, b| {
+        contact_geometry_many::<(), _>(&mut out, true, |i, a, b| {
             (*a, *b) = (pairs[i].0.t, pairs[i].1.t);
             Ok((pairs[i].0.n, pairs[i].1.n))
         })
@@ -3179,13 +3192,29 @@ mod tests {
             }
         }
         let mut out = vec![geometry(&apart[0].0, &apart[0].1); apart.len()];
-        contact_geometry_intersecting::<(), _>(&mut out, |i, a, b| {
+        contact_geometry_many::<(), _>(&mut out, true, |i, a, b| {
             (*a, *b) = (apart[i].0.t, apart[i].1.t);
             Ok((1, 1))
         })
         .unwrap();
         for ((a, b), g) in apart.iter().zip(&out) {
             assert!(!g.intersecting, "{a:?} {b:?}");
+            assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
+        }
+        // Not known (a query within a band): intersecting and apart pairs mixed, the
+        // lanes' exact test picks the crossing ones.
+        let mixed: Vec<_> = pairs
+            .iter()
+            .zip(apart.iter().cycle())
+            .flat_map(|(p, q)| [*p, *q])
+            .collect();
+        let mut out = vec![geometry(&mixed[0].0, &mixed[0].1); mixed.len()];
+        contact_geometry_many::<(), _>(&mut out, false, |i, a, b| {
+            (*a, *b) = (mixed[i].0.t, mixed[i].1.t);
+            Ok((mixed[i].0.n, mixed[i].1.n))
+        })
+        .unwrap();
+        for ((a, b), g) in mixed.iter().zip(&out) {
             assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
         }
         // The lanes themselves: how many crossing pairs they answer.
