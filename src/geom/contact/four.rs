@@ -2,13 +2,14 @@
 //! (two triangles crossing transversally) written with AVX2 vectors of four `f64`, one
 //! lane per pair, so that one instruction serves four pairs.
 //!
-//! It is only for pairs **known to intersect** (the pairs of a query at epsilon 0: each
-//! was decided by the exact test), which lets it skip the exact test itself. A lane is
-//! answered here only when the scalar fast path would take none of its rare branches:
-//! every vertex's side of the other plane certified by the filter (no vertex on the other
-//! plane), no edge along the other's plane in the separating-axis search, and a finite
-//! unit result, and cuts that overlap. (Cut ends that need the accurate distances get them
-//! here too.) Every other lane is left to [`super::contact_geometry`] by the caller.
+//! It is only for pairs **known to intersect** (the pairs of a query at epsilon 0, each
+//! decided by the exact test, or those the four-lane exact test `tritri::four` certifies),
+//! which lets it skip the exact test itself. A lane is answered here only when the scalar
+//! fast path would take none of its rare branches: every vertex's side of the other plane
+//! certified by the filter (no vertex on the other plane), cuts that overlap, no edge along
+//! the other's plane in the separating-axis search, and a finite unit result. (Cut ends
+//! that need the accurate distances get them here too.) Every other lane is left to
+//! [`super::contact_geometry`] by the caller.
 //!
 //! The operations are the scalar fast path's, in the same order on the same values
 //! (`minpd`/`maxpd` are its `min`/`max`, the only fused multiply-adds its explicit
