@@ -679,8 +679,10 @@ impl Scene {
 
     /// The contact geometry of the last successful query's answer, entry `i` for contact
     /// (or pair) `i`: polygon `a` is the reference polygon (or `polygon_a`), `b` the other.
-    /// Computed here, on demand (see [`contact_geometry`](crate::geom::contact::contact_geometry) for every rule). InvalidArgument
-    /// before any query, after a failed one, or after any change to the meshes since
+    /// Computed here, on demand (see
+    /// [`contact_geometry`](crate::geom::contact::contact_geometry) for every rule).
+    /// InvalidArgument before any query, after a failed one, or after any change to the
+    /// meshes since
     /// (create, update, enable, destroy, filter, self-collision, GL buffer binding);
     /// Unsupported when a mesh of the answer reads its positions from a GL buffer.
     pub fn contact_geometry(&mut self) -> Result<&[ContactGeometry]> {

@@ -245,8 +245,13 @@ where
             let (decided, meets) = unsafe { super::tritri::four::intersect(a, b) };
             decided & meets
         };
-        // SAFETY: the caller's promise.
-        let found = unsafe { four::crossing(a, b) };
+        // No crossing lane (a batch of band pairs): no geometry kernel.
+        let found = if crossing & ((1 << n) - 1) != 0 {
+            // SAFETY: the caller's promise.
+            unsafe { four::crossing(a, b) }
+        } else {
+            [None; N]
+        };
         for l in 0..n {
             out[at[l]] = match found[l] {
                 Some(g) if crossing & (1 << l) != 0 => g,
