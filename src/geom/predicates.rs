@@ -13,8 +13,17 @@ pub type P3 = [f64; 3];
 
 /// Sign of the orientation of `d` against the plane through `a`, `b`, `c`
 /// (positive, negative or exactly zero when the four points are coplanar).
+///
+/// Two equal points make the determinant exactly zero; the adaptive predicate would find
+/// that only at its last, exact stage (a zero is never certified by an error bound), which
+/// costs about a microsecond: a flat triangle whose `f32` corners coincide (common on
+/// instrument meshes moved in `f32`) made every test against it that slow. So equal points
+/// answer zero at once.
 #[inline]
 pub fn orient3d(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
+    if a == b || a == c || a == d || b == c || b == d || c == d {
+        return 0.0;
+    }
     let p = |p: &P3| Coord3D {
         x: p[0],
         y: p[1],
@@ -52,9 +61,13 @@ pub fn orient3d_filtered(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
     }
 }
 
-/// Sign of the 2D orientation of `c` against the line `a`-`b` (exactly zero when collinear).
+/// Sign of the 2D orientation of `c` against the line `a`-`b` (exactly zero when collinear;
+/// at once when two points are equal, as [`orient3d`]).
 #[inline]
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    if a == b || a == c || b == c {
+        return 0.0;
+    }
     let p = |p: [f64; 2]| Coord { x: p[0], y: p[1] };
     robust::orient2d(p(a), p(b), p(c))
 }
@@ -92,6 +105,57 @@ mod tests {
         let sa = orient3d(&a, &b, &c, &above);
         let sb = orient3d(&a, &b, &c, &below);
         assert!(sa != 0.0 && sb != 0.0 && sa.signum() != sb.signum());
+    }
+
+    #[test]
+    fn equal_points_answer_zero_as_the_exact_predicate() {
+        // The shortcut for equal points gives the adaptive predicate's own answer (zero),
+        // in every position of the repeated point; distinct points still reach it.
+        let p = [
+            [
+                265.544_525_146_484_4,
+                375.866_790_771_484_4,
+                126.908_462_524_414_06,
+            ],
+            [
+                265.251_464_843_75,
+                369.864_135_742_187_5,
+                124.980_705_261_230_47,
+            ],
+            [
+                267.876_007_080_078_1,
+                372.753_387_451_171_9,
+                125.180_999_755_859_38,
+            ],
+            [1e-30, -2.5, 7.0],
+        ];
+        let exact = |a: &P3, b: &P3, c: &P3, d: &P3| {
+            let q = |p: &P3| Coord3D {
+                x: p[0],
+                y: p[1],
+                z: p[2],
+            };
+            robust::orient3d(q(a), q(b), q(c), q(d))
+        };
+        for i in 0..4 {
+            for j in 0..4 {
+                for k in 0..4 {
+                    for l in 0..4 {
+                        let (a, b, c, d) = (&p[i], &p[j], &p[k], &p[l]);
+                        let ours = orient3d(a, b, c, d);
+                        let sign = |x: f64| (x > 0.0) as i8 - (x < 0.0) as i8;
+                        assert_eq!(sign(ours), sign(exact(a, b, c, d)), "{i}{j}{k}{l}");
+                        let distinct = i != j && i != k && i != l && j != k && j != l && k != l;
+                        assert_eq!(ours == 0.0, !distinct, "{i}{j}{k}{l}");
+                        let two = |x: &P3| [x[0], x[2]];
+                        let (a, b, c) = (two(a), two(b), two(c));
+                        let q = |p: [f64; 2]| Coord { x: p[0], y: p[1] };
+                        let flat = robust::orient2d(q(a), q(b), q(c));
+                        assert_eq!(sign(orient2d(a, b, c)), sign(flat), "{i}{j}{k}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
