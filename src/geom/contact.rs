@@ -246,17 +246,18 @@ where
             decided & meets
         };
         // No crossing lane (a batch of band pairs): no geometry kernel.
-        let found = if crossing & ((1 << n) - 1) != 0 {
+        let mut found = four::Found::NONE;
+        if crossing & ((1 << n) - 1) != 0 {
             // SAFETY: the caller's promise.
-            unsafe { four::crossing(a, b) }
-        } else {
-            [None; N]
-        };
+            unsafe { four::crossing(a, b, &mut found) };
+        }
         for l in 0..n {
-            out[at[l]] = match found[l] {
-                Some(g) if crossing & (1 << l) != 0 => g,
-                _ => contact_geometry_any(&[a[l]; 2], 1, &[b[l]; 2], 1),
-            };
+            let g = &mut out[at[l]];
+            if found.ok & crossing & (1 << l) != 0 {
+                found.write(l, g);
+            } else {
+                *g = contact_geometry_any(&[a[l]; 2], 1, &[b[l]; 2], 1);
+            }
         }
     }
     for i in 0..out.len() {
@@ -3238,13 +3239,25 @@ mod tests {
             for chunk in tris.chunks_exact(four::LANES) {
                 let a = std::array::from_fn(|l| chunk[l].0);
                 let b = std::array::from_fn(|l| chunk[l].1);
+                let mut found = four::Found::NONE;
                 // SAFETY: the CPU has AVX2 and FMA (checked above).
-                for (l, g) in unsafe { four::crossing(&a, &b) }.iter().enumerate() {
+                unsafe { four::crossing(&a, &b, &mut found) };
+                for l in 0..four::LANES {
                     all += 1;
-                    if let Some(g) = g {
+                    if found.ok & (1 << l) != 0 {
                         fast += 1;
                         let want = contact_geometry(&[a[l]; 2], 1, &[b[l]; 2], 1);
-                        assert_eq!(bits(g), bits(&want), "{:?} {:?}", a[l], b[l]);
+                        // (Every field overwritten: none of these survives.)
+                        let mut g = ContactGeometry {
+                            point_a: [f64::NAN; 3],
+                            point_b: [f64::NAN; 3],
+                            normal: [f64::NAN; 3],
+                            depth: f64::NAN,
+                            intersecting: false,
+                            coplanar: true,
+                        };
+                        found.write(l, &mut g);
+                        assert_eq!(bits(&g), bits(&want), "{:?} {:?}", a[l], b[l]);
                     }
                 }
             }

@@ -159,13 +159,6 @@ impl Neg for F {
 }
 
 impl M {
-    /// A value under the invariant (so no promise needed).
-    #[inline(always)]
-    pub(crate) fn like(&self, x: f64) -> F {
-        // SAFETY: `self` exists, so the CPU has AVX2 (the type's invariant).
-        unsafe { F::splat(x) }
-    }
-
     #[inline(always)]
     pub(crate) fn and(self, o: M) -> M {
         // SAFETY: the invariant.

@@ -192,18 +192,10 @@ fn cut(v: &[W; 3], d: &[F; 3], s: &[F; 3], mag: F, plane: &Face) -> (W, W) {
     (vk.add_scaled(&ei, ti), vk.add_scaled(&ej, tj))
 }
 
-/// `x + 3` where negative (`x` in -2..=2).
-#[inline(always)]
-fn wrap3(x: F) -> F {
-    let zero = x.like(0.0);
-    x.lt(zero).sel(x + x.like(3.0), x)
-}
-
-/// The best separating axis so far in each lane: the least key, and among equal keys the
-/// least rank (the scalar path's order).
+/// The best separating axis so far in each lane: the least key, the first offered among
+/// equal keys (offers come in the scalar path's order).
 struct Best {
     key: F,
-    rank: F,
     c: W,
     s: F,
     dir: F,
@@ -211,16 +203,15 @@ struct Best {
 }
 
 impl Best {
-    /// Axis `n` (squared length `den`) of rank `r`, moving `a` by `sn` along `dn * n`;
-    /// only in the lanes of `facet`.
+    /// Axis `n` (squared length `den`), moving `a` by `sn` along `dn * n`; only in the
+    /// lanes of `facet`.
     #[inline(always)]
-    fn offer(&mut self, r: F, n: &W, sn: F, dn: F, den: F, facet: M) {
-        let inf = r.like(f64::INFINITY);
-        let valid = den.gt(r.like(0.0)).and(facet);
+    fn offer(&mut self, n: &W, sn: F, dn: F, den: F, facet: M) {
+        let inf = sn.like(f64::INFINITY);
+        let valid = den.gt(sn.like(0.0)).and(facet);
         let k = valid.sel(sn * sn.abs() / den, inf);
-        let take = k.lt(self.key).or(k.eq(self.key).and(r.lt(self.rank)));
+        let take = k.lt(self.key);
         self.key = take.sel(k, self.key);
-        self.rank = take.sel(r, self.rank);
         self.c = take.selw(n, &self.c);
         self.s = take.sel(sn, self.s);
         self.dir = take.sel(dn, self.dir);
@@ -228,17 +219,92 @@ impl Best {
     }
 }
 
+/// The edge pairs of the separating-axis search, counted from the lone signs: `a`'s edges
+/// and vertices from `ib` on (`ib`, the next, the previous: the scalar `ib, i1, i2`), `b`'s
+/// and `a3` from `ja` on.
+struct Sat {
+    ea: [W; 3],
+    va: [W; 3],
+    eb: [W; 3],
+    vb: [W; 3],
+    a3: [F; 3],
+    /// Lanes where the lone signs differ: five facets (else four).
+    five: M,
+}
+
+impl Sat {
+    #[inline(always)]
+    fn new(ta: &[W; 3], tb: &[W; 3], ea: &[W; 3], eb: &[W; 3], a3: &[F; 3], b3: &[F; 3]) -> Sat {
+        let (i0, i1) = lonely(b3);
+        let (j0, j1) = lonely(a3);
+        let a3 = [
+            sel3(j0, j1, a3[0], a3[1], a3[2]),
+            sel3(j0, j1, a3[1], a3[2], a3[0]),
+            sel3(j0, j1, a3[2], a3[0], a3[1]),
+        ];
+        let zero = a3[0].like(0.0);
+        let b3_lone = sel3(i0, i1, b3[0], b3[1], b3[2]);
+        Sat {
+            ea: turn((i0, i1), ea),
+            va: turn((i0, i1), ta),
+            eb: turn((j0, j1), eb),
+            vb: turn((j0, j1), tb),
+            a3,
+            five: a3[0].gt(zero).xor(b3_lone.gt(zero)),
+        }
+    }
+
+    /// The facet of relative edges `five_at` where there are five facets, `four_at` where
+    /// four (constants: a choice between them is a blend), in the lanes of `facet`.
+    #[inline(always)]
+    fn offer(&self, best: &mut Best, five_at: (usize, usize), four_at: (usize, usize), facet: M) {
+        let ((i5, j5), (i4, j4)) = (five_at, four_at);
+        let (ea, va) = (
+            pick(self.five, &self.ea, i5, i4),
+            pick(self.five, &self.va, i5, i4),
+        );
+        let (eb, vb) = (
+            pick(self.five, &self.eb, j5, j4),
+            pick(self.five, &self.vb, j5, j4),
+        );
+        let a3 = if j5 == j4 {
+            self.a3[j5]
+        } else {
+            self.five.sel(self.a3[j5], self.a3[j4])
+        };
+        let c = ea.cross(&eb);
+        let dn = a3.sign_one();
+        let sn = dn * c.dot(&vb.sub(&va));
+        best.offer(&c, sn, dn, c.norm_squared(), facet);
+    }
+}
+
+/// `v` from the vertex that [`lonely`]'s masks name on: that one, the next, the previous.
+/// (Functions, not closures, in this module: see [`Plane::side`].)
+#[inline(always)]
+fn turn((m0, m1): (M, M), v: &[W; 3]) -> [W; 3] {
+    [
+        sel3w(m0, m1, &v[0], &v[1], &v[2]),
+        sel3w(m0, m1, &v[1], &v[2], &v[0]),
+        sel3w(m0, m1, &v[2], &v[0], &v[1]),
+    ]
+}
+
+/// `x[k5]` in the lanes of `five`, `x[k4]` in the others (constant indices: one blend, or
+/// none when they are the same).
+#[inline(always)]
+fn pick(five: M, x: &[W; 3], k5: usize, k4: usize) -> W {
+    if k5 == k4 {
+        x[k5]
+    } else {
+        five.selw(&x[k5], &x[k4])
+    }
+}
+
 /// Edges `v_{k+1} - v_k`.
 #[inline(always)]
 fn edges(v: &[W; 3]) -> [W; 3] {
     [v[1].sub(&v[0]), v[2].sub(&v[1]), v[0].sub(&v[2])]
-}
-
-/// [`lonely`]'s masks as the vertex index (0, 1, 2).
-#[inline(always)]
-fn index((m0, m1): (M, M)) -> F {
-    let zero = m0.like(0.0);
-    m0.sel(zero, m1.sel(zero.like(1.0), zero.like(2.0)))
 }
 
 /// Lanes where the three are non-zero and not all of one sign.
@@ -250,17 +316,49 @@ fn fine(x: &[F; 3]) -> M {
     nonzero.and(u0.xor(u1).or(u1.xor(u2)))
 }
 
-/// Geometry of four triangle pairs `(a[l], b[l])`, each known to intersect (exactly).
-/// Lane `l` of the result is the scalar fast path's answer where it is `Some`; `None`
-/// leaves that pair to [`super::contact_geometry`].
+/// The answers of [`crossing`], lane by lane (the fields of `ContactGeometry` for
+/// intersecting, non-coplanar pairs), read straight into the caller's output: an array of
+/// `ContactGeometry` values made here and copied out would be stored field by field and
+/// reloaded whole, which the CPU cannot forward (the copy cost an eighth of the kernel).
+pub(super) struct Found {
+    /// Lane `l` is answered when bit `l` is set.
+    pub ok: u32,
+    pub p: [[f64; LANES]; 3],
+    pub q: [[f64; LANES]; 3],
+    pub n: [[f64; LANES]; 3],
+    pub depth: [f64; LANES],
+}
+
+impl Found {
+    /// Nothing answered.
+    pub const NONE: Found = Found {
+        ok: 0,
+        p: [[0.0; LANES]; 3],
+        q: [[0.0; LANES]; 3],
+        n: [[0.0; LANES]; 3],
+        depth: [0.0; LANES],
+    };
+
+    /// Lane `l`'s geometry (answered lanes only), written field by field into `g`.
+    #[inline(always)]
+    pub fn write(&self, l: usize, g: &mut ContactGeometry) {
+        g.point_a = [self.p[0][l], self.p[1][l], self.p[2][l]];
+        g.point_b = [self.q[0][l], self.q[1][l], self.q[2][l]];
+        g.normal = [self.n[0][l], self.n[1][l], self.n[2][l]];
+        g.depth = self.depth[l];
+        g.intersecting = true;
+        g.coplanar = false;
+    }
+}
+
+/// Geometry of four triangle pairs `(a[l], b[l])`, each known to intersect (exactly),
+/// into `out`: lane `l` is the scalar fast path's answer where bit `l` of `out.ok` is
+/// set; the other lanes are left to [`super::contact_geometry`].
 ///
 /// # Safety
 /// The CPU has AVX2 and FMA (the caller is compiled for them, or checked).
 #[inline(always)]
-pub(super) unsafe fn crossing(
-    a: &[[P3; 3]; LANES],
-    b: &[[P3; 3]; LANES],
-) -> [Option<ContactGeometry>; LANES] {
+pub(super) unsafe fn crossing(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES], out: &mut Found) {
     // SAFETY: the caller's promise (every other value is made from these).
     let (ta, tb, zero) = unsafe { (load(a), load(b), F::splat(0.0)) };
     let fa = Face::of(&ta);
@@ -297,15 +395,14 @@ pub(super) unsafe fn crossing(
     let (ea, eb) = (edges(&ta), edges(&tb));
     let a3 = [-eb[0].dot(&fa.n), -eb[1].dot(&fa.n), -eb[2].dot(&fa.n)];
     let b3 = [ea[0].dot(&fb.n), ea[1].dot(&fb.n), ea[2].dot(&fb.n)];
-    // The scalar path's lone signs (`ja` of a3, `ib` of b3), for its order among facets:
-    // it lists facet (i, j) in the order of `3 ((i - ib) mod 3) + (j - ja) mod 3`.
-    let (ja, ib) = (index(lonely(&a3)), index(lonely(&b3)));
     let (fine_a, fine_b) = (fine(&a3), fine(&b3));
+    // Counted from the lone signs, `ib` of b3 and `ja` of a3 (as the scalar path does),
+    // the facets are the same relative pairs in every lane: four or five of them.
+    let sides = Sat::new(&ta, &tb, &ea, &eb, &a3, &b3);
 
     // The two faces: on na, a at 0 and b at db; on nb, b at 0 and a at da.
     let mut best = Best {
         key: zero.like(f64::INFINITY),
-        rank: zero.like(f64::INFINITY),
         c: W {
             x: zero,
             y: zero,
@@ -321,23 +418,21 @@ pub(super) unsafe fn crossing(
     let (up, down) = (bmax - zero, zero - bmin);
     let dir = up.le(down).sel(one, minus_one);
     let den = fa.n.norm_squared();
-    best.offer(zero.like(-2.0), &fa.n, up.min(down), dir, den, all);
+    best.offer(&fa.n, up.min(down), dir, den, all);
     let (amin, amax) = min_max(&da);
     let (up, down) = (zero - amin, amax - zero);
     let dir = up.le(down).sel(one, minus_one);
     let den = fb.n.norm_squared();
-    best.offer(zero.like(-1.0), &fb.n, up.min(down), dir, den, all);
-    for i in 0..3 {
-        for j in 0..3 {
-            let facet = b3[i].gt(zero).xor(a3[j].gt(zero));
-            let c = ea[i].cross(&eb[j]);
-            let dn = a3[j].sign_one();
-            let sn = dn * c.dot(&tb[j].sub(&ta[i]));
-            let (fi, fj) = (zero.like(i as f64), zero.like(j as f64));
-            let r = zero.like(3.0) * wrap3(fi - ib) + wrap3(fj - ja);
-            best.offer(r, &c, sn, dn, c.norm_squared(), facet);
-        }
-    }
+    best.offer(&fb.n, up.min(down), dir, den, all);
+    // The facets in the scalar path's order (its `pairs`), by relative (i, j): where the
+    // lone signs agree (i, j) = (0, 1), (0, 2), (1, 0), (2, 0); where they differ (0, 0),
+    // (1, 1), (1, 2), (2, 1), (2, 2). Offered in that order and taken only when strictly
+    // better, as the scalar `take_min`: among equal keys the first wins.
+    sides.offer(&mut best, (0, 0), (0, 1), all);
+    sides.offer(&mut best, (1, 1), (0, 2), all);
+    sides.offer(&mut best, (1, 2), (1, 0), all);
+    sides.offer(&mut best, (2, 1), (2, 0), all);
+    sides.offer(&mut best, (2, 2), (2, 2), sides.five);
     // The result (the scalar `Axis::result`), then `finish`'s guard.
     let len = best.den.sqrt();
     let depth = (best.s / len).max(zero);
@@ -347,7 +442,11 @@ pub(super) unsafe fn crossing(
     // about the pair, no intersection at all) goes to the scalar path, which decides
     // exactly: so a pair that does not intersect is never answered here unless its cuts
     // overlap by less than their rounding.
-    let ok = ok_a
+    // A lane with a value that is not finite goes to the scalar path too (coordinates are
+    // within the f32 range: the sum overflows only where a term is not finite).
+    let sum = p.x + p.y + p.z + q.x + q.y + q.z + normal.x + normal.y + normal.z + depth;
+    let finite = sum.abs().lt(zero.like(f64::INFINITY));
+    out.ok = ok_a
         .and(ok_b)
         .and(apart.not())
         .and(fine_a)
@@ -355,25 +454,11 @@ pub(super) unsafe fn crossing(
         .and(best.key.lt(zero.like(f64::INFINITY)))
         .and(len.gt(zero))
         .and((n2 - one).abs().lt(zero.like(1e-12)))
+        .and(finite)
         .bits();
-    let (px, py, pz) = ((p.x + zero).get(), (p.y + zero).get(), (p.z + zero).get());
-    let (qx, qy, qz) = ((q.x + zero).get(), (q.y + zero).get(), (q.z + zero).get());
-    let (nx, ny, nz) = (normal.x.get(), normal.y.get(), normal.z.get());
-    let depth = depth.get();
-    let mut out = [None; LANES];
-    for (l, out) in out.iter_mut().enumerate() {
-        let g = ContactGeometry {
-            point_a: [px[l], py[l], pz[l]],
-            point_b: [qx[l], qy[l], qz[l]],
-            normal: [nx[l], ny[l], nz[l]],
-            depth: depth[l],
-            intersecting: true,
-            coplanar: false,
-        };
-        let sum: f64 = g.point_a.iter().chain(&g.point_b).chain(&g.normal).sum();
-        if ok & (1 << l) != 0 && (sum + g.depth).is_finite() {
-            *out = Some(g);
-        }
-    }
-    out
+    // (`+ 0`: the scalar path's `finish` adds its origin, 0, which makes -0 into +0.)
+    out.p = [(p.x + zero).get(), (p.y + zero).get(), (p.z + zero).get()];
+    out.q = [(q.x + zero).get(), (q.y + zero).get(), (q.z + zero).get()];
+    out.n = [normal.x.get(), normal.y.get(), normal.z.get()];
+    out.depth = depth.get();
 }
