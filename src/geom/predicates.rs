@@ -12,15 +12,24 @@ use robust::{Coord, Coord3D};
 pub type P3 = [f64; 3];
 
 /// Sign of the orientation of `d` against the plane through `a`, `b`, `c`
-/// (positive, negative or exactly zero when the four points are coplanar).
+/// (positive, negative or exactly zero when the four points are coplanar): Shewchuk's
+/// floating-point filter here, the adaptive stages only when it cannot decide
+/// ([`orient3d_filtered`], not inlined: one call per predicate, as before).
+#[inline(never)]
+pub fn orient3d(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
+    orient3d_filtered(a, b, c, d)
+}
+
+/// The adaptive stages of [`orient3d`], where its filter could not decide.
 ///
 /// Two equal points make the determinant exactly zero; the adaptive predicate would find
 /// that only at its last, exact stage (a zero is never certified by an error bound), which
 /// costs about a microsecond: a flat triangle whose `f32` corners coincide (common on
 /// instrument meshes moved in `f32`) made every test against it that slow. So equal points
 /// answer zero at once.
-#[inline]
-pub fn orient3d(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
+#[cold]
+#[inline(never)]
+fn orient3d_adaptive(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
     if a == b || a == c || a == d || b == c || b == d || c == d {
         return 0.0;
     }
@@ -57,7 +66,7 @@ pub fn orient3d_filtered(a: &P3, b: &P3, c: &P3, d: &P3) -> f64 {
     if det.abs() > errbound {
         det
     } else {
-        orient3d(a, b, c, d)
+        orient3d_adaptive(a, b, c, d)
     }
 }
 
