@@ -127,7 +127,7 @@ pub struct ContactGeometry {
 /// exact test; on the heavy case (about 700 crossing pairs) about 160 to 205 ns per pair,
 /// 17 to 20% of the query's time. Pairs known to intersect (a query's at epsilon 0) go
 /// four at a time through [`contact_geometry_many`] instead (what
-/// `Scene::contact_geometry` does): about 50 to 75 ns per pair, 8 to 9% of the query
+/// `Scene::contact_geometry` does): about 45 to 75 ns per pair, 9 to 12% of the query
 /// (`tests/contact_heavy.rs`, `bench-results/contact.md`).
 pub fn contact_geometry(
     a: &[[P3; 3]; 2],
