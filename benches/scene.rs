@@ -12,7 +12,8 @@
 //! Environment: `SCENE=substring` keeps the scenes whose name contains it, `EPS=0` or
 //! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count,
 //! `SPHERES=10,100,1000` the body counts of the spheres scene (default 1000), `DUMP=DIR`
-//! writes the scenes' two frames as OBJ files under DIR (for the C++ peers).
+//! writes the scenes' two frames as OBJ files under DIR (for the C++ peers), `INTER=1`
+//! leaves self-collision off (pairs between bodies only, as `bench/scene_peers` compares).
 
 use std::time::Instant;
 
@@ -212,8 +213,11 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64
         .zip(&case.frames[0])
         .map(|(idx, p)| s.create_mesh(Positions::from_points(p), idx, 3).unwrap())
         .collect();
-    for &id in &ids {
-        s.set_self_collision(id, true).unwrap();
+    // INTER=1: pairs between bodies only (what the peers of bench/scene_peers answer).
+    if std::env::var("INTER").map_or(true, |v| v != "1") {
+        for &id in &ids {
+            s.set_self_collision(id, true).unwrap();
+        }
     }
     let (mut total, mut query, mut pairs) = (Vec::new(), Vec::new(), 0);
     let mut stats = Vec::new();

@@ -987,10 +987,11 @@ pub fn self_pairs(
 /// Prepares leaf-order polygon `p` of `m` for the narrow test, unless done for this task.
 #[inline]
 fn prepare(m: &Mesh, p: usize, stamp: u64, prepared: &mut [(u64, Prepared)]) {
-    if prepared[p].0 != stamp {
-        let mut t = [[[0.0; 3]; 3]; 2];
-        let n = m.triangles(p, &mut t);
-        prepared[p] = (stamp, Prepared::of(t, n));
+    let (at, prep) = &mut prepared[p];
+    if *at != stamp {
+        let n = m.triangles(p, &mut prep.poly.tris);
+        prep.remake(n);
+        *at = stamp;
     }
 }
 

@@ -76,9 +76,8 @@ impl Stamped {
     #[inline]
     fn get(&mut self, stamp: u64, m: &Mesh, poly: u32) -> &Prepared {
         if self.stamp != stamp {
-            let mut tris = [[[0.0; 3]; 3]; 2];
-            let n = m.triangles(poly as usize, &mut tris);
-            self.p = Prepared::of(tris, n);
+            let n = m.triangles(poly as usize, &mut self.p.poly.tris);
+            self.p.remake(n);
             self.stamp = stamp;
         }
         &self.p
