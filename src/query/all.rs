@@ -913,6 +913,11 @@ pub fn self_pairs(
             // (and quads) by the exact test: the same answer as the loop below.
             struct Apart<'a, F> {
                 m: &'a Mesh,
+                /// A triangle mesh's triangles, already made for this query (`None` for
+                /// quads): the lanes read them there, and only the pairs they leave
+                /// undecided are prepared (the preparation's scattered writes over a big
+                /// mesh cost more than the test).
+                tris: Option<&'a [[P3; 3]]>,
                 stamp: u64,
                 prepared: &'a mut [(u64, Prepared)],
                 push: F,
@@ -925,6 +930,10 @@ pub fn self_pairs(
                     a: &mut [P3; 3],
                     b: &mut [P3; 3],
                 ) -> bool {
+                    if let Some(t) = self.tris {
+                        (*a, *b) = (t[p as usize], t[q as usize]);
+                        return true;
+                    }
                     prepare(self.m, p as usize, self.stamp, self.prepared);
                     prepare(self.m, q as usize, self.stamp, self.prepared);
                     let (x, y) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
@@ -936,7 +945,8 @@ pub fn self_pairs(
                 }
                 #[inline]
                 fn exact(&mut self, (p, q): (u32, u32)) -> bool {
-                    // (Prepared by `triangles`, always asked first.)
+                    prepare(self.m, p as usize, self.stamp, self.prepared);
+                    prepare(self.m, q as usize, self.stamp, self.prepared);
                     let (a, b) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
                     a.meets(b, None)
                 }
@@ -947,6 +957,7 @@ pub fn self_pairs(
             }
             let mut judge = Apart {
                 m,
+                tris: (k == 3).then_some(&prep.tris[..]),
                 stamp,
                 prepared: &mut s.prepared,
                 push: &mut push,
