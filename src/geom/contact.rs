@@ -238,12 +238,12 @@ where
     ) {
         // The lanes that intersect: all when known, else those the exact test's lanes
         // certify.
-        let crossing = if known {
-            u32::MAX
+        let (crossing, apart) = if known {
+            (u32::MAX, 0)
         } else {
             // SAFETY: the caller's promise.
             let (decided, meets) = unsafe { super::tritri::four::intersect(a, b) };
-            decided & meets
+            (decided & meets, decided & !meets)
         };
         // No crossing lane (a batch of band pairs): no geometry kernel.
         let mut found = four::Found::NONE;
@@ -255,6 +255,11 @@ where
             let g = &mut out[at[l]];
             if found.ok & crossing & (1 << l) != 0 {
                 found.write(l, g);
+            } else if apart & (1 << l) != 0 {
+                // Decided apart: what `contact_geometry` does once its own exact test has
+                // found the triangles apart (the only way it answers a pair that does not
+                // intersect), without that test.
+                *g = band_triangles(&a[l], &b[l]);
             } else {
                 *g = contact_geometry_any(&[a[l]; 2], 1, &[b[l]; 2], 1);
             }
