@@ -13,7 +13,9 @@
 
 use crate::backend::cpu::lanes::Lanes;
 use crate::backend::Pair;
-use crate::geom::adjacent::{adjacent_polygons_meet, triangles_touch_only_at_joint_planes};
+use crate::geom::adjacent::{
+    adjacent_polygons_meet, shares_vertex, triangles_touch_only_at_joint_planes,
+};
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
@@ -848,7 +850,7 @@ pub fn self_pairs(
             proven_subs,
             |p, q, proven| {
                 let (vp, vq) = (&prep.verts[p as usize], &prep.verts[q as usize]);
-                if share_vertex(vp, vq) {
+                if shares_vertex(&vp[..k], &vq[..k]) {
                     // Proven patches meet only where they share: nothing to decide.
                     if !proven {
                         adjacent.push((p, q));
@@ -1020,25 +1022,5 @@ fn vertices(m: &Mesh, p: usize) -> [u32; 4] {
     for (k, &slot) in m.poly(p).iter().enumerate() {
         v[k] = m.slot_vertex[slot as usize];
     }
-    if m.vertices_per_polygon() == 3 {
-        // A triangle repeats its first vertex, so that [`share_vertex`] compares all four.
-        v[3] = v[0];
-    }
     v
-}
-
-/// Do two polygons share a vertex index
-/// ([`shares_vertex`](crate::geom::adjacent::shares_vertex) on [`vertices`]' four entries)?
-/// All sixteen comparisons, no early exit: about half the box pairs of a self-colliding
-/// mesh are neighbours, at random, and the branches of an early exit mispredicted
-/// (8% of a rod's self query).
-#[inline(always)]
-fn share_vertex(a: &[u32; 4], b: &[u32; 4]) -> bool {
-    let mut any = false;
-    for x in a {
-        for y in b {
-            any |= x == y;
-        }
-    }
-    any
 }
