@@ -26,10 +26,9 @@ pub struct Prepared {
 
 impl Default for Prepared {
     fn default() -> Self {
-        let zero = [[0.0; 3]; 3];
         Prepared {
             poly: Polygon::default(),
-            planes: [Plane::of(&zero); 2],
+            planes: [Plane::ZERO; 2],
         }
     }
 }
@@ -38,13 +37,12 @@ impl Prepared {
     /// The polygon made of `tris[..n]` (`n` is 1 or 2).
     #[inline]
     pub fn of(tris: [[P3; 3]; 2], n: usize) -> Prepared {
-        let first = Plane::of(&tris[0]);
-        // A triangle's two planes are the same (no second computation).
-        let last = if n == 1 { first } else { Plane::of(&tris[1]) };
-        Prepared {
+        let mut p = Prepared {
             poly: Polygon { tris, n },
-            planes: [first, last],
-        }
+            planes: [Plane::ZERO; 2],
+        };
+        p.remake(n);
+        p
     }
 
     /// Made again in place once the caller has written new triangles into
@@ -54,6 +52,7 @@ impl Prepared {
     #[inline]
     pub fn remake(&mut self, n: usize) {
         let first = Plane::of(&self.poly.tris[0]);
+        // A triangle's two planes are the same (no second computation).
         self.poly.n = n;
         self.planes[0] = first;
         self.planes[1] = if n == 1 {

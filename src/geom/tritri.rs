@@ -80,6 +80,13 @@ pub struct Plane {
 const PLANE_SLACK: f64 = 1e-12;
 
 impl Plane {
+    /// All zero: a placeholder, to be overwritten (the plane of a triangle of one point).
+    pub(crate) const ZERO: Plane = Plane {
+        o: [0.0; 3],
+        n: [0.0; 3],
+        perm: [0.0; 3],
+    };
+
     /// The plane of triangle `t`: a vertex, the unnormalised normal and the scale of its
     /// rounding error.
     pub fn of(t: &[P3; 3]) -> Plane {
