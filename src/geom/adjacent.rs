@@ -1519,31 +1519,7 @@ mod tests {
     }
 
     /// xorshift64: deterministic cases.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        fn below(&mut self, n: usize) -> usize {
-            (self.next() % n as u64) as usize
-        }
-        /// Uniform in [lo, hi).
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * ((self.next() >> 11) as f64 / (1u64 << 53) as f64)
-        }
-        fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
-            xs[self.below(xs.len())]
-        }
-        fn shuffle<T>(&mut self, xs: &mut [T]) {
-            for i in (1..xs.len()).rev() {
-                xs.swap(i, self.below(i + 1));
-            }
-        }
-    }
+    use crate::geom::test_rng::Rng;
 
     /// Two polygons: indices and one position per vertex.
     #[derive(Clone, Debug)]

@@ -108,15 +108,7 @@ impl Affine {
 mod tests {
     use super::*;
 
-    struct Rng(u64);
-    impl Rng {
-        fn f(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::geom::test_rng::Rng;
 
     #[test]
     fn apply_rounds_each_operation_in_order() {
@@ -137,15 +129,15 @@ mod tests {
         for round in 0..6000 {
             let wild = round >= 2000;
             let scale = if wild {
-                10f64.powf(r.f() * 40.0 - 20.0)
+                10f64.powf(r.unit() * 40.0 - 20.0)
             } else {
                 [1e-4, 1.0, 1e4, 1e5][round % 4]
             };
             let mut m = [0.0; 12];
             for e in &mut m {
-                *e = (r.f() * 2.0 - 1.0)
+                *e = (r.unit() * 2.0 - 1.0)
                     * if wild {
-                        10f64.powf(r.f() * 40.0 - 20.0)
+                        10f64.powf(r.unit() * 40.0 - 20.0)
                     } else if round % 3 == 0 {
                         1.0
                     } else {
@@ -153,8 +145,8 @@ mod tests {
                     };
             }
             let a = Affine(m);
-            let c = [0; 3].map(|_| ((r.f() * 2.0 - 1.0) * scale) as f32);
-            let e = [0; 3].map(|_| (r.f() * scale * 0.1) as f32);
+            let c = [0; 3].map(|_| ((r.unit() * 2.0 - 1.0) * scale) as f32);
+            let e = [0; 3].map(|_| (r.unit() * scale * 0.1) as f32);
             let b = Aabb {
                 min: [0, 1, 2].map(|k| c[k] - e[k]),
                 max: [0, 1, 2].map(|k| c[k] + e[k]),
@@ -169,7 +161,7 @@ mod tests {
                     let t = match (i >> (2 * k)) & 3 {
                         0 => 0.0,
                         1 => 1.0,
-                        _ => r.f(),
+                        _ => r.unit(),
                     };
                     (f64::from(b.min[k]) + t * f64::from(b.max[k] - b.min[k])) as f32
                 });

@@ -2239,38 +2239,7 @@ mod tests {
         (a.moved(&o), b.moved(&o))
     }
 
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        /// Uniform in [-0.5, 0.5).
-        fn f(&mut self) -> f64 {
-            (self.next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        }
-        fn v(&mut self, s: f64) -> P3 {
-            [self.f() * s, self.f() * s, self.f() * s]
-        }
-        fn dir(&mut self) -> P3 {
-            loop {
-                let v = self.v(2.0);
-                let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                if n > 0.1 && n < 1.0 {
-                    return v.map(|x| x / n);
-                }
-            }
-        }
-        /// Positive barycentric weights.
-        fn bary(&mut self) -> [f64; 3] {
-            let w = [self.f() + 0.55, self.f() + 0.55, self.f() + 0.55];
-            let s = w[0] + w[1] + w[2];
-            w.map(|x| x / s)
-        }
-    }
+    use crate::geom::test_rng::Rng;
 
     fn plus(o: &P3, v: &P3) -> P3 {
         [o[0] + v[0], o[1] + v[1], o[2] + v[2]]

@@ -9,6 +9,8 @@ pub mod patch;
 pub mod polygon;
 pub mod predicates;
 pub mod sweep;
+#[cfg(test)]
+pub(crate) mod test_rng;
 pub mod tritri;
 pub mod volume;
 

@@ -457,13 +457,8 @@ mod tests {
 
     #[test]
     fn random_patches_are_proven_only_when_no_pair_meets() {
-        let mut seed = 0x2545F4914F6CDD1Du64;
-        let mut rnd = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::geom::test_rng::Rng(0x2545F4914F6CDD1Du64);
+        let mut rnd = move || rng.f();
         let (mut proven, mut refused) = (0, 0);
         for round in 0..400 {
             let jitter = [0.1, 0.5, 1.0, 2.0][round % 4];

@@ -591,13 +591,8 @@ mod tests {
         if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
             return;
         }
-        let mut seed = 0x7A1E_5EED_u64;
-        let mut f = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = crate::geom::test_rng::Rng(0x7A1E_5EED_u64);
+        let mut f = move || rng.f();
         let (mut decided, mut total, mut meets) = ([0usize; 3], [0usize; 3], 0usize);
         for i in 0..60_000 {
             let kind = i % 3;
