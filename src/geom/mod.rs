@@ -2,6 +2,8 @@
 
 pub mod adjacent;
 pub mod affine;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod batch;
 pub mod contact;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod lanes;

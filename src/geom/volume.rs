@@ -15,6 +15,9 @@
 
 use super::predicates::{collinear, P3};
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod four;
+
 /// A convex viewing volume: the points `x` with `n . (x - origin) + d >= 0` for every plane.
 #[derive(Clone, Debug)]
 pub struct Cell {

@@ -908,91 +908,106 @@ pub fn self_pairs(
     if h > 0.0 && s.cells.len() < n {
         s.cells.resize(n, (0, None));
     }
+    let mut judge = Apart {
+        m,
+        tris: (k == 3).then_some(&prep.tris[..]),
+        stamp,
+        h,
+        prepared: &mut s.prepared,
+        cells: &mut s.cells,
+        push: &mut push,
+    };
     #[cfg(target_arch = "x86_64")]
-    if h == 0.0 {
-        if let Some(mut fours) = crate::geom::tritri::four::Fours::<(u32, u32)>::new() {
+    {
+        use crate::geom::batch::{Fours, Kernel};
+        let kernel = if h == 0.0 {
+            Kernel::Exact
+        } else {
+            Kernel::Band { h, both: true }
+        };
+        if let Some(mut fours) = Fours::<(u32, u32)>::new(kernel) {
             // Four pairs at a time where floating point certifies the answer, the others
-            // (and quads) by the exact test: the same answer as the loop below.
-            struct Apart<'a, F> {
-                m: &'a Mesh,
-                /// A triangle mesh's triangles, already made for this query (`None` for
-                /// quads): the lanes read them there, and only the pairs they leave
-                /// undecided are prepared (the preparation's scattered writes over a big
-                /// mesh cost more than the test).
-                tris: Option<&'a [[P3; 3]]>,
-                stamp: u64,
-                prepared: &'a mut [(u64, Prepared)],
-                push: F,
-            }
-            impl<F: FnMut(u32, u32)> crate::geom::tritri::four::Judge<(u32, u32)> for Apart<'_, F> {
-                #[inline]
-                fn triangles(
-                    &mut self,
-                    (p, q): (u32, u32),
-                    a: &mut [P3; 3],
-                    b: &mut [P3; 3],
-                ) -> bool {
-                    if let Some(t) = self.tris {
-                        (*a, *b) = (t[p as usize], t[q as usize]);
-                        return true;
-                    }
-                    prepare(self.m, p as usize, self.stamp, self.prepared);
-                    prepare(self.m, q as usize, self.stamp, self.prepared);
-                    let (x, y) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
-                    if x.poly.n != 1 || y.poly.n != 1 {
-                        return false;
-                    }
-                    (*a, *b) = (x.poly.tris[0], y.poly.tris[0]);
-                    true
-                }
-                #[inline]
-                fn exact(&mut self, (p, q): (u32, u32)) -> bool {
-                    prepare(self.m, p as usize, self.stamp, self.prepared);
-                    prepare(self.m, q as usize, self.stamp, self.prepared);
-                    let (a, b) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
-                    a.meets(b, None)
-                }
-                #[inline]
-                fn found(&mut self, (p, q): (u32, u32)) {
-                    (self.push)(p, q);
-                }
-            }
-            let mut judge = Apart {
-                m,
-                tris: (k == 3).then_some(&prep.tris[..]),
-                stamp,
-                prepared: &mut s.prepared,
-                push: &mut push,
-            };
+            // (and quads) by the scalar test: the same answer as the loop below.
             fours.decide(s.apart.iter().copied(), &mut judge);
             st.self_narrow_nanos += nanos_since(t);
             st.self_found += out.len() - found;
             return;
         }
     }
-    for &(p, q) in &s.apart {
-        let (p, q) = (p as usize, q as usize);
-        prepare(m, p, stamp, &mut s.prepared);
-        prepare(m, q, stamp, &mut s.prepared);
-        let (a, b) = (&s.prepared[p].1, &s.prepared[q].1);
-        let meets = if h == 0.0 {
-            a.meets(b, None)
-        } else {
-            fill_cells(a, p, h, stamp, &mut s.cells);
-            // Farther than `h` apart: neither meets the other's volumes (saves making
-            // `b`'s and clipping both ways).
-            let far = s.cells[p].1.as_ref().is_some_and(|c| a.far_apart(c, b, h));
-            !far && (a.meets(b, s.cells[p].1.as_ref()) || {
-                fill_cells(b, q, h, stamp, &mut s.cells);
-                b.meets(a, s.cells[q].1.as_ref())
-            })
-        };
-        if meets {
-            push(p as u32, q as u32);
+    for &key in &s.apart {
+        if judge.scalar(key) {
+            (judge.push)(key.0, key.1);
         }
     }
     st.self_narrow_nanos += nanos_since(t);
     st.self_found += out.len() - found;
+}
+
+/// The narrow test of a task's non-adjacent polygon pairs (keys: leaf-order indices).
+struct Apart<'a, F> {
+    m: &'a Mesh,
+    /// A triangle mesh's triangles, already made for this query (`None` for quads): the
+    /// lanes read them there, and only the pairs they leave undecided are prepared (the
+    /// preparation's scattered writes over a big mesh cost more than the test).
+    tris: Option<&'a [[P3; 3]]>,
+    stamp: u64,
+    h: f64,
+    prepared: &'a mut [(u64, Prepared)],
+    cells: &'a mut [(u64, Option<[Cell; 2]>)],
+    push: F,
+}
+
+impl<F: FnMut(u32, u32)> Apart<'_, F> {
+    /// The scalar test: the closed polygons intersect (`h = 0`), or either meets the
+    /// other's viewing volumes.
+    #[inline]
+    fn scalar(&mut self, (p, q): (u32, u32)) -> bool {
+        let (p, q, h, stamp) = (p as usize, q as usize, self.h, self.stamp);
+        prepare(self.m, p, stamp, self.prepared);
+        prepare(self.m, q, stamp, self.prepared);
+        let (a, b) = (&self.prepared[p].1, &self.prepared[q].1);
+        if h == 0.0 {
+            return a.meets(b, None);
+        }
+        fill_cells(a, p, h, stamp, self.cells);
+        // Farther than `h` apart: neither meets the other's volumes (saves making `b`'s
+        // and clipping both ways).
+        let far = self.cells[p]
+            .1
+            .as_ref()
+            .is_some_and(|c| a.far_apart(c, b, h));
+        !far && (a.meets(b, self.cells[p].1.as_ref()) || {
+            fill_cells(b, q, h, stamp, self.cells);
+            b.meets(a, self.cells[q].1.as_ref())
+        })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> {
+    #[inline]
+    fn triangles(&mut self, (p, q): (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+        if let Some(t) = self.tris {
+            (*a, *b) = (t[p as usize], t[q as usize]);
+            return true;
+        }
+        prepare(self.m, p as usize, self.stamp, self.prepared);
+        prepare(self.m, q as usize, self.stamp, self.prepared);
+        let (x, y) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
+        if x.poly.n != 1 || y.poly.n != 1 {
+            return false;
+        }
+        (*a, *b) = (x.poly.tris[0], y.poly.tris[0]);
+        true
+    }
+    #[inline]
+    fn scalar(&mut self, key: (u32, u32)) -> bool {
+        Apart::scalar(self, key)
+    }
+    #[inline]
+    fn found(&mut self, (p, q): (u32, u32)) {
+        (self.push)(p, q);
+    }
 }
 
 /// Prepares leaf-order polygon `p` of `m` for the narrow test, unless done for this task.

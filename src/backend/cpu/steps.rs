@@ -319,7 +319,6 @@ impl Run<'_, '_> {
         let reference = q.meshes[0].1;
         let (id, m) = q.meshes[mi as usize];
         let s = &mut *self.s;
-        let (ref_range, other_range) = (refs.clone(), others.clone());
         let (refs, others) = (&s.refs[refs], &s.other_polys[others]);
         s.stamp += 1;
         let stamp = s.stamp;
@@ -329,121 +328,128 @@ impl Run<'_, '_> {
         if s.cprep.len() < others.len() {
             s.cprep.resize(others.len(), Stamped::default());
         }
-        #[cfg(target_arch = "x86_64")]
-        if h == 0.0 {
-            if let Some(fours) = crate::geom::tritri::four::Fours::new() {
-                exact_by_four(
-                    s,
-                    fours,
-                    (ref_range, other_range),
-                    stamp,
-                    reference,
-                    (id, m),
-                    out,
-                );
-                return;
-            }
-        }
         let symmetric = h > 0.0 && q.symmetric;
         s.cells.clear();
         s.cells.resize(if h > 0.0 { refs.len() } else { 0 }, None);
         s.ccells.clear();
         s.ccells
             .resize(if symmetric { others.len() } else { 0 }, None);
-        for &(v, c) in &s.box_pairs {
-            let (rp, op) = (refs[v as usize], others[c as usize]);
-            let pv = s.vprep[v as usize].get(stamp, reference, rp);
-            let pc = s.cprep[c as usize].get(stamp, m, op);
-            let cells = (h > 0.0).then(|| &*s.cells[v as usize].get_or_insert_with(|| pv.cells(h)));
-            // Farther than `h` apart: no meeting either way round (no clipping, and no
-            // volume made for the other polygon).
-            if cells.is_some_and(|c| pv.far_apart(c, pc, h)) {
-                continue;
+        let mut five = Five {
+            refs,
+            others,
+            vprep: &mut s.vprep,
+            cprep: &mut s.cprep,
+            cells: &mut s.cells,
+            ccells: &mut s.ccells,
+            h,
+            symmetric,
+            stamp,
+            reference,
+            other: (id, m),
+            out,
+        };
+        #[cfg(target_arch = "x86_64")]
+        {
+            use crate::geom::batch::{Fours, Kernel};
+            let kernel = if h == 0.0 {
+                Kernel::Exact
+            } else {
+                Kernel::Band { h, both: symmetric }
+            };
+            if let Some(mut fours) = Fours::new(kernel) {
+                // Four pairs at a time where floating point certifies the answer, the
+                // others (and quads) by the scalar test: the same answer as the loop below.
+                fours.decide(s.box_pairs.iter().copied(), &mut five);
+                return;
             }
-            let meets = pv.meets(pc, cells)
-                || symmetric
-                    && pc.meets(
-                        pv,
-                        Some(&*s.ccells[c as usize].get_or_insert_with(|| pc.cells(h))),
-                    );
-            if meets {
-                out.push(Contact {
-                    other_mesh: id,
-                    reference_polygon: reference.poly_ids[rp as usize],
-                    other_polygon: m.poly_ids[op as usize],
-                });
+        }
+        for &key in &s.box_pairs {
+            if five.scalar(key) {
+                five.found(key);
             }
         }
     }
 }
 
-/// Step 5's narrow test at epsilon 0 for the box pairs of one leaf pair, four triangle
-/// pairs at a time ([`Fours::decide`](crate::geom::tritri::four::Fours::decide)): the pairs
-/// that floating point certifies in the lanes, the others (and every quad) by
-/// [`Prepared::meets`]: the same exact answer as the loop in [`Run::narrow`].
-#[cfg(target_arch = "x86_64")]
-fn exact_by_four(
-    s: &mut Scratch,
-    mut fours: crate::geom::tritri::four::Fours<(u32, u32)>,
-    (refs, others): (std::ops::Range<usize>, std::ops::Range<usize>),
+/// Step 5's narrow test on the box pairs of one leaf pair (keys: positions in `refs` and
+/// `others`): the leaf pair's polygons prepared on demand, their viewing volumes (`h > 0`)
+/// made on first use, and where contacts go.
+struct Five<'a> {
+    refs: &'a [u32],
+    others: &'a [u32],
+    vprep: &'a mut [Stamped],
+    cprep: &'a mut [Stamped],
+    cells: &'a mut [Option<[Cell; 2]>],
+    ccells: &'a mut [Option<[Cell; 2]>],
+    h: f64,
+    symmetric: bool,
     stamp: u64,
-    reference: &Mesh,
-    (id, m): (u32, &Mesh),
-    out: &mut Vec<Contact>,
-) {
-    /// The leaf pair's polygons, prepared on demand, and where contacts go.
-    struct Five<'a> {
-        refs: &'a [u32],
-        others: &'a [u32],
-        vprep: &'a mut [Stamped],
-        cprep: &'a mut [Stamped],
-        stamp: u64,
-        reference: &'a Mesh,
-        other: (u32, &'a Mesh),
-        out: &'a mut Vec<Contact>,
+    reference: &'a Mesh,
+    other: (u32, &'a Mesh),
+    out: &'a mut Vec<Contact>,
+}
+
+impl Five<'_> {
+    #[inline]
+    fn both(&mut self, (v, c): (u32, u32)) -> (&Prepared, &Prepared) {
+        let (v, c) = (v as usize, c as usize);
+        let pv = self.vprep[v].get(self.stamp, self.reference, self.refs[v]);
+        let pc = self.cprep[c].get(self.stamp, self.other.1, self.others[c]);
+        (pv, pc)
     }
-    impl Five<'_> {
-        #[inline]
-        fn both(&mut self, (v, c): (u32, u32)) -> (&Prepared, &Prepared) {
-            let (v, c) = (v as usize, c as usize);
-            let pv = self.vprep[v].get(self.stamp, self.reference, self.refs[v]);
-            let pc = self.cprep[c].get(self.stamp, self.other.1, self.others[c]);
-            (pv, pc)
+
+    /// The scalar narrow test of one pair ([`Prepared::meets`], both ways round when the
+    /// query is symmetric).
+    #[inline]
+    fn scalar(&mut self, (v, c): (u32, u32)) -> bool {
+        let h = self.h;
+        let (vu, cu) = (v as usize, c as usize);
+        let pv = self.vprep[vu].get(self.stamp, self.reference, self.refs[vu]);
+        let pc = self.cprep[cu].get(self.stamp, self.other.1, self.others[cu]);
+        if h == 0.0 {
+            return pv.meets(pc, None);
         }
+        let cells = &*self.cells[vu].get_or_insert_with(|| pv.cells(h));
+        // Farther than `h` apart: no meeting either way round (no clipping, and no
+        // volume made for the other polygon).
+        if pv.far_apart(cells, pc, h) {
+            return false;
+        }
+        pv.meets(pc, Some(cells))
+            || self.symmetric
+                && pc.meets(
+                    pv,
+                    Some(&*self.ccells[cu].get_or_insert_with(|| pc.cells(h))),
+                )
     }
-    impl crate::geom::tritri::four::Judge<(u32, u32)> for Five<'_> {
-        #[inline]
-        fn triangles(&mut self, key: (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
-            let (pv, pc) = self.both(key);
-            if pv.poly.n != 1 || pc.poly.n != 1 {
-                return false;
-            }
-            (*a, *b) = (pv.poly.tris[0], pc.poly.tris[0]);
-            true
-        }
-        #[inline]
-        fn exact(&mut self, key: (u32, u32)) -> bool {
-            let (pv, pc) = self.both(key);
-            pv.meets(pc, None)
-        }
-        #[inline]
-        fn found(&mut self, (v, c): (u32, u32)) {
-            self.out.push(Contact {
-                other_mesh: self.other.0,
-                reference_polygon: self.reference.poly_ids[self.refs[v as usize] as usize],
-                other_polygon: self.other.1.poly_ids[self.others[c as usize] as usize],
-            });
-        }
+
+    #[inline]
+    fn found(&mut self, (v, c): (u32, u32)) {
+        self.out.push(Contact {
+            other_mesh: self.other.0,
+            reference_polygon: self.reference.poly_ids[self.refs[v as usize] as usize],
+            other_polygon: self.other.1.poly_ids[self.others[c as usize] as usize],
+        });
     }
-    let mut judge = Five {
-        refs: &s.refs[refs],
-        others: &s.other_polys[others],
-        vprep: &mut s.vprep,
-        cprep: &mut s.cprep,
-        stamp,
-        reference,
-        other: (id, m),
-        out,
-    };
-    fours.decide(s.box_pairs.iter().copied(), &mut judge);
+}
+
+#[cfg(target_arch = "x86_64")]
+impl crate::geom::batch::Judge<(u32, u32)> for Five<'_> {
+    #[inline]
+    fn triangles(&mut self, key: (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+        let (pv, pc) = self.both(key);
+        if pv.poly.n != 1 || pc.poly.n != 1 {
+            return false;
+        }
+        (*a, *b) = (pv.poly.tris[0], pc.poly.tris[0]);
+        true
+    }
+    #[inline]
+    fn scalar(&mut self, key: (u32, u32)) -> bool {
+        Five::scalar(self, key)
+    }
+    #[inline]
+    fn found(&mut self, key: (u32, u32)) {
+        Five::found(self, key)
+    }
 }
