@@ -55,11 +55,12 @@ struct BulletScene : SceneEngine {
             b.arr.reset(new btTriangleIndexVertexArray());
             b.arr->addIndexedMesh(im, PHY_INTEGER);
             b.shape.reset(new btGImpactMeshShape(b.arr.get()));
-            // Margin: one quantum of the 16-bit frame (the harness's sound setting).
+            // Margin: one quantum of the 16-bit frame (the harness's sound setting), plus h / 2
+            // within a band (two boxes then meet when their primitives are within h).
             double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, size = 0;
             for (size_t k = 0; k < 3 * m.nv(); k++) lo[k % 3] = std::min(lo[k % 3], b.v[k]), hi[k % 3] = std::max(hi[k % 3], b.v[k]);
             for (int k = 0; k < 3; k++) size = std::max(size, hi[k] - lo[k] + 2.0);
-            b.shape->setMargin(btScalar(size / 65535.0));
+            b.shape->setMargin(btScalar(size / 65535.0 + h / 2));
             b.shape->updateBound();
             btVector3 a0, a1;
             b.aabb(a0, a1);
@@ -92,7 +93,8 @@ struct BulletScene : SceneEngine {
             btGImpactQuantizedBvh::find_collision(a.part()->getBoxSet(), I, b.part()->getBoxSet(), I, pairs);
             for (int q = 0; q < pairs.size(); q++) {
                 uint32_t ta = uint32_t(pairs[q].m_index1), tb = uint32_t(pairs[q].m_index2);
-                if (peers::exact_tri_intersect(a.v, &a.mesh->tri[3 * ta], b.v, &b.mesh->tri[3 * tb]))
+                const uint32_t *x = &a.mesh->tri[3 * ta], *y = &b.mesh->tri[3 * tb];
+                if (h > 0 ? tri_distance(a.v, x, b.v, y) <= h : peers::exact_tri_intersect(a.v, x, b.v, y))
                     out.push_back({i, ta, j, tb});
             }
         }

@@ -31,6 +31,10 @@ struct Frame {
 };
 
 struct SceneEngine {
+    // Half the band (epsilon / 2): 0 asks for the intersecting pairs; h > 0 for the pairs
+    // within h of each other (the peers: by distance; glcollide: its viewing volumes, a
+    // subset of those, API.md). Set before build.
+    double h = 0;
     virtual ~SceneEngine() {}
     virtual std::string name() const = 0;
     // The library's structures for the bodies at frame `f0` (not timed).
@@ -41,11 +45,17 @@ struct SceneEngine {
     virtual void query(std::vector<Pair> &out) = 0;
 };
 
+// The distance of triangle ta of positions pa and triangle tb of pb (FCL's triangle
+// distance, double): the peers' narrow test within a band.
+double tri_distance(const double *pa, const uint32_t *ta, const double *pb, const uint32_t *tb);
+
 // FCL 0.7: DynamicAABBTreeCollisionManager over one CollisionObject per body, each a
 // BVHModel<AABBd> refit bottom-up; collide() per overlapping body pair, all contacts.
 SceneEngine *make_fcl_scene();
 // Bullet 3.24 (double): btDbvtBroadphase over one proxy per body, each a btGImpactMeshShape
-// (refit); per overlapping body pair GImpact's find_collision, then the exact test.
+// (refit); per overlapping body pair GImpact's find_collision, then the exact test. Within a
+// band (h > 0): every primitive box grown by h / 2 (the shape's margin), then
+// tri_distance <= h.
 SceneEngine *make_bullet_scene();
 // Embree 3: one scene of user geometries (one per body, REFIT, bounds rounded outward to
 // float), rtcCollide of the scene with itself, pairs of different bodies, the exact test.

@@ -172,6 +172,41 @@ impl Seen {
         }
         self.ok.and(apart)
     }
+
+    /// `t` is certainly farther than `h` from `a`: all its corners beyond one of the
+    /// prism's planes by more than `h` (then neither triangle meets the other's volume,
+    /// and one `Seen` answers for both ways round).
+    #[inline(always)]
+    fn corners_far(&self, h: F) -> M {
+        let m = self.margin();
+        let (xs, ys, ws) = (self.xs, self.ys, self.ws);
+        let t = [
+            P2 { x: xs[0], y: ys[0] },
+            P2 { x: xs[1], y: ys[1] },
+            P2 { x: xs[2], y: ys[2] },
+        ];
+        let (two_h, mw) = (h + h, self.r * h.like(TOL_W));
+        let (lo, hi) = (-two_h - mw, two_h + mw);
+        let mut far = ws[0]
+            .gt(hi)
+            .and(ws[1].gt(hi))
+            .and(ws[2].gt(hi))
+            .or(ws[0].lt(lo).and(ws[1].lt(lo)).and(ws[2].lt(lo)));
+        for (kx, ky) in self.edge_axes() {
+            // Beyond by `h` along the unit axis: by `h |k|` along `k`.
+            let reach = h * (kx * kx + ky * ky).sqrt() + m;
+            let (c0, c1, c2) = (
+                self.corners[0].along(kx, ky),
+                self.corners[1].along(kx, ky),
+                self.corners[2].along(kx, ky),
+            );
+            let (alo, ahi) = (c0.min(c1).min(c2), c0.max(c1).max(c2));
+            let (v0, v1, v2) = (t[0].along(kx, ky), t[1].along(kx, ky), t[2].along(kx, ky));
+            let (tlo, thi) = (v0.min(v1).min(v2), v0.max(v1).max(v2));
+            far = far.or(thi.lt(alo - reach).or(tlo.gt(ahi + reach)));
+        }
+        self.ok.and(far)
+    }
 }
 
 /// Per lane: (certainly meets, certainly misses) for triangle `t` against the prism of
@@ -251,9 +286,9 @@ fn prism(a: &[W; 3], t: &[W; 3], h: F) -> (M, M) {
     (overlap, s.ok.and(apart))
 }
 
-/// The cheap first test of [`band`]: the lanes whose pair is certainly apart (each
-/// triangle's corners beyond one plane of the other's volume, or only `b`'s when not
-/// `both`), as a lane bit mask.
+/// The cheap first test of [`band`]: the lanes whose pair is certainly apart, as a lane
+/// bit mask: `b`'s corners beyond one plane of `a`'s volume, by more than `h` when `both`
+/// (then `b` is farther than `h` from `a`, so `a` misses `b`'s volume too).
 ///
 /// # Safety
 /// The CPU has AVX2 and FMA.
@@ -266,11 +301,12 @@ pub(crate) unsafe fn band_far(
 ) -> u32 {
     // SAFETY: the caller's promise.
     let (ta, tb, h) = unsafe { (load(a), load(b), F::splat(h)) };
-    let miss = Seen::of(&ta, &tb, h).corners_miss();
-    if !both {
-        return miss.bits();
+    let seen = Seen::of(&ta, &tb, h);
+    if both {
+        seen.corners_far(h).bits()
+    } else {
+        seen.corners_miss().bits()
     }
-    miss.and(Seen::of(&tb, &ta, h).corners_miss()).bits()
 }
 
 /// Step 5's band test of four pairs: lane `l` asks whether `b[l]` meets the viewing volume
@@ -295,6 +331,11 @@ pub(crate) unsafe fn band(
     let (meets, misses) = prism(&ta, &tb, h);
     if !both {
         return (meets.or(misses).bits(), meets.bits());
+    }
+    if meets.bits() == (1 << LANES) - 1 {
+        // All four meet one way round (common among deeply crossing bodies): no need to
+        // look the other way.
+        return (meets.bits(), meets.bits());
     }
     let (meets2, misses2) = prism(&tb, &ta, h);
     let meets = meets.or(meets2);
