@@ -31,7 +31,9 @@ struct BulletScene : SceneEngine {
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
     btPairSet pairs;
-    std::string name() const override { return "Bullet btDbvtBroadphase + GImpact"; }
+    std::string name() const override {
+        return h > 0 ? "Bullet GImpact (boxes + h/2), FCL triangle distance <= h" : "Bullet btDbvtBroadphase + GImpact";
+    }
     ~BulletScene() override {
         for (auto &b : bodies)
             if (b.proxy) broadphase.destroyProxy(b.proxy, &dispatcher);
