@@ -65,20 +65,36 @@ pub(super) struct Scratch {
     stamp: u64,
 }
 
-/// A polygon prepared for the current step-5 leaf pair, valid while `stamp` is the pair's.
+/// A polygon prepared for the current step-5 leaf pair, valid while `stamp` is the pair's:
+/// its triangles on first use, its planes only when the scalar test needs them (the lanes
+/// read the triangles alone, and decide most pairs).
 #[derive(Clone, Copy, Default)]
 struct Stamped {
     stamp: u64,
+    /// The planes of `p` are made (for this stamp).
+    planes: bool,
     p: Prepared,
 }
 
 impl Stamped {
+    /// The polygon's triangles (`p.poly`; its planes may be stale).
+    #[inline]
+    fn tris(&mut self, stamp: u64, m: &Mesh, poly: u32) -> &Prepared {
+        if self.stamp != stamp {
+            self.p.poly.n = m.triangles(poly as usize, &mut self.p.poly.tris);
+            self.planes = false;
+            self.stamp = stamp;
+        }
+        &self.p
+    }
+
+    /// The polygon prepared whole, planes included.
     #[inline]
     fn get(&mut self, stamp: u64, m: &Mesh, poly: u32) -> &Prepared {
-        if self.stamp != stamp {
-            let n = m.triangles(poly as usize, &mut self.p.poly.tris);
-            self.p.remake(n);
-            self.stamp = stamp;
+        self.tris(stamp, m, poly);
+        if !self.planes {
+            self.p.remake(self.p.poly.n);
+            self.planes = true;
         }
         &self.p
     }
@@ -390,11 +406,12 @@ struct Five<'a> {
 }
 
 impl Five<'_> {
+    /// The pair's polygons, triangles only (for the lanes).
     #[inline]
     fn both(&mut self, (v, c): (u32, u32)) -> (&Prepared, &Prepared) {
         let (v, c) = (v as usize, c as usize);
-        let pv = self.vprep[v].get(self.stamp, self.reference, self.refs[v]);
-        let pc = self.cprep[c].get(self.stamp, self.other.1, self.others[c]);
+        let pv = self.vprep[v].tris(self.stamp, self.reference, self.refs[v]);
+        let pc = self.cprep[c].tris(self.stamp, self.other.1, self.others[c]);
         (pv, pc)
     }
 
