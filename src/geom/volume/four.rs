@@ -367,8 +367,40 @@ mod tests {
         [p(), p(), p()]
     }
 
+    /// A triangle folded onto `a` or away from it by 1e-3..1e-7 radian about `a`'s first
+    /// edge (sharing that edge), or, one time in three, sharing only `a`'s first corner:
+    /// the cases whose points lie on the volume's boundary.
+    fn fold(rng: &mut Rng, a: &[P3; 3]) -> [P3; 3] {
+        let sub = |p: &P3, q: &P3| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+        let (e, f) = (sub(&a[1], &a[0]), sub(&a[2], &a[0]));
+        let n = [
+            e[1] * f[2] - e[2] * f[1],
+            e[2] * f[0] - e[0] * f[2],
+            e[0] * f[1] - e[1] * f[0],
+        ];
+        let nl = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-300);
+        let ee = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).max(1e-300);
+        let k = (f[0] * e[0] + f[1] * e[1] + f[2] * e[2]) / ee;
+        let side = [f[0] - k * e[0], f[1] - k * e[1], f[2] - k * e[2]];
+        let angle =
+            10f64.powi(-3 - rng.below(5) as i32) * if rng.below(2) == 0 { 1.0 } else { -1.0 };
+        // Onto `a` (the apex's side) or away from it.
+        let s = if rng.below(2) == 0 { 1.0 } else { -1.0 } * rng.range(0.2, 1.2);
+        let along = rng.unit();
+        let p: P3 = std::array::from_fn(|c| {
+            a[0][c] + e[c] * along + side[c] * s * angle.cos() + n[c] / nl * s.abs() * angle.sin()
+        });
+        if rng.below(3) == 0 {
+            let q: P3 = std::array::from_fn(|c| p[c] + e[c] * 0.3 + n[c] / nl * 1e-3);
+            [a[0], p, q]
+        } else {
+            [a[0], a[1], p]
+        }
+    }
+
     /// Decided lanes answer as the scalar test, one way and both ways round, on random
     /// pairs, nearly parallel pairs a fraction of `h` apart, grid pairs with exact ties,
+    /// folds (a shared edge or corner, 1e-3..1e-7 radian, or moved about `h` apart),
     /// degenerate triangles (segments, points), at offsets up to 1e5 and scales 1e-4 to
     /// 1e4; most random and nearly parallel pairs are decided in the lanes.
     #[test]
@@ -377,13 +409,13 @@ mod tests {
             return;
         }
         let mut rng = Rng(0xBA2D_5EED_u64);
-        let (mut decided, mut total, mut meets) = ([0usize; 3], [0usize; 3], [0usize; 3]);
-        let mut far_count = [0usize; 3];
-        for i in 0..40_000 {
-            let kind = i % 3;
-            let off = [0.0, 1e3, 1e5][i / 3 % 3];
-            let scale = [1.0, 1e-4, 1e4][i / 9 % 3];
-            let both = i / 27 % 2 == 0;
+        let (mut decided, mut total, mut meets) = ([0usize; 4], [0usize; 4], [0usize; 4]);
+        let mut far_count = [0usize; 4];
+        for i in 0..50_000 {
+            let kind = i % 4;
+            let off = [0.0, 1e3, 1e5][i / 4 % 3];
+            let scale = [1.0, 1e-4, 1e4][i / 12 % 3];
+            let both = i / 36 % 2 == 0;
             let h = if kind == 2 {
                 0.25 * scale
             } else {
@@ -393,8 +425,25 @@ mod tests {
             let mut flat = [false; LANES];
             for (pair, flat) in pairs.iter_mut().zip(&mut flat) {
                 let gap = rng.range(-0.5, 2.5) * h / scale;
+                let mut pair_first = [[0.0; 3]; 3];
                 for (s, t) in pair.iter_mut().enumerate() {
-                    *t = triangle(&mut rng, kind, s as f64 * gap);
+                    *t = match (kind, s) {
+                        (3, 1) => {
+                            let t = fold(&mut rng, &pair_first);
+                            // One time in three moved off `a` by about `h` (a near miss or
+                            // a near hit across a gap) along a random direction.
+                            if rng.below(3) == 0 {
+                                let d = rng.dir();
+                                let g = rng.range(0.5, 2.0) * h / scale;
+                                t.map(|p| std::array::from_fn(|c| p[c] + d[c] * g))
+                            } else {
+                                t
+                            }
+                        }
+                        (3, _) => triangle(&mut rng, 0, 0.0),
+                        _ => triangle(&mut rng, kind, s as f64 * gap),
+                    };
+                    pair_first = *t;
                     if rng.below(16) == 0 {
                         t[2] = t[rng.below(2)]; // a segment or, now and then, a point
                         *flat = true;
@@ -436,7 +485,7 @@ mod tests {
             }
         }
         println!(
-            "decided in the lanes (random, nearly parallel, grid): {decided:?} of {total:?}; \
+            "decided in the lanes (random, nearly parallel, grid, folds): {decided:?} of {total:?}; \
              meet {meets:?}; far at the first stage {far_count:?}"
         );
         for k in 0..2 {
