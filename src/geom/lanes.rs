@@ -1,7 +1,7 @@
 //! Four `f64` lanes in AVX2 registers (x86-64 only): the types the geometry kernels that
 //! work on four triangle pairs at once are written with (`contact/four.rs`: contact
-//! geometry; `tritri/four.rs`: the exact intersection test, where floating point
-//! certifies it). Every operation is one IEEE
+//! geometry; `tritri/four.rs`: the exact intersection test, and `volume/four.rs`: the band
+//! test, where floating point certifies them). Every operation is one IEEE
 //! operation per lane (no fused multiply-add unless asked for), so a kernel gives in each
 //! lane what the same scalar code gives.
 //!
