@@ -252,3 +252,46 @@ fn several_meshes_and_quads_fused_equal_steps() {
         assert!(seen > 0);
     }
 }
+
+/// A needle (a 1e-10 edge next to a right angle) and a triangle 1.1e-7 past its tip
+/// (found by review): the CPU engine (lanes, first-stage rejection, clipping) and the
+/// brute-force step answerer agree with either mesh as the reference; with the needle as
+/// the reference, also with the exact answer (the other misses its volume, which once kept
+/// a sliver past its tip).
+#[test]
+fn needle_tip_cpu_equals_brute_force() {
+    let a: [[f64; 3]; 3] = [
+        [0.0, 0.0, 0.0],
+        [
+            -4.016898272340974e-11,
+            -2.6028002669820083e-11,
+            -8.780088461834978e-11,
+        ],
+        [-0.6565284132957458, 0.7502625584602356, 0.07795185595750809],
+    ];
+    let b: [[f64; 3]; 3] = [
+        [-0.6400055289268494, 0.7659923434257507, 0.06572958081960678],
+        [-0.6660141944885254, 0.7412342429161072, 0.08496793359518051],
+        [-0.40299293398857117, 0.8378798365592957, 0.3872389793395996],
+    ];
+    let eps = (2.0 * 1.0726893320679665e-2f64) as f32;
+    let f = |t: &[[f64; 3]; 3]| t.map(|p| p.map(|x| x as f32)).to_vec();
+    for reference_is_a in [true, false] {
+        let count = |fused: bool| {
+            let mut s = scene(eps, 0, fused);
+            let ra = s
+                .create_mesh(Positions::from_points(&f(&a)), &[0, 1, 2], 3)
+                .unwrap();
+            let rb = s
+                .create_mesh(Positions::from_points(&f(&b)), &[0, 1, 2], 3)
+                .unwrap();
+            let r = if reference_is_a { ra } else { rb };
+            s.query(r).unwrap().len()
+        };
+        let (cpu, brute) = (count(true), count(false));
+        assert_eq!(cpu, brute, "reference a: {reference_is_a}");
+        if reference_is_a {
+            assert_eq!(cpu, 0);
+        }
+    }
+}

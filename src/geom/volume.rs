@@ -22,9 +22,19 @@ pub(crate) mod four;
 #[derive(Clone, Debug)]
 pub struct Cell {
     origin: P3,
-    planes: [[f64; 4]; 6],
+    /// The volume's planes (`shown` of them: [`Cell::planes`]), then, for a prism over a
+    /// triangle with a sharp corner, the supporting plane at each such corner (up to two):
+    /// redundant in exact arithmetic, they keep clipping exact to rounding at a needle's
+    /// tip, where its two long sides' planes nearly coincide and clipping against them
+    /// alone keeps a sliver about ulp / angle long past the tip.
+    planes: [[f64; 4]; 8],
     count: usize,
+    shown: usize,
 }
+
+/// A corner is sharp below this cosine of its angle (about 1e-2 radian): the position of
+/// its two sides' crossing is then a hundred times less accurate than the sides.
+const COS_SHARP: f64 = 0.99995;
 
 #[inline]
 fn sub(a: &P3, b: &P3) -> P3 {
@@ -59,11 +69,13 @@ impl Cell {
         let b = sub(&t[2], &origin);
         let mut cell = Cell {
             origin,
-            planes: [[0.0; 4]; 6],
+            planes: [[0.0; 4]; 8],
             count: 0,
+            shown: 0,
         };
         if collinear(&t[0], &t[1], &t[2]) {
             cell.set_degenerate(&[[0.0; 3], a, b], h);
+            cell.shown = cell.count;
             return cell;
         }
         let n = unit(&cross(&a, &b));
@@ -76,6 +88,20 @@ impl Cell {
             // n x e points into the triangle for the winding that gave n.
             let m = unit(&cross(&n, &e));
             cell.push(m, -dot(&m, &p));
+        }
+        cell.shown = cell.count;
+        for i in 0..3 {
+            let p = v[i];
+            let (u1, u2) = (
+                unit(&sub(&v[(i + 1) % 3], &p)),
+                unit(&sub(&v[(i + 2) % 3], &p)),
+            );
+            if dot(&u1, &u2) > COS_SHARP {
+                // Along the corner's bisector, into the triangle: the triangle lies on its
+                // inner side (both sides leave the corner at less than 90 degrees to it).
+                let m = unit(&[u1[0] + u2[0], u1[1] + u2[1], u1[2] + u2[2]]);
+                cell.push(m, -dot(&m, &p));
+            }
         }
         cell
     }
@@ -128,14 +154,16 @@ impl Cell {
     /// 0` inside). A prism ([`Cell::is_prism`]): its two caps, normal `n` then `-n` (`d` the
     /// half depth), then its three edges. A degenerate triangle's box: three pairs of
     /// opposite faces, `a` then `-a` for each of three orthonormal axes `a`. A GL viewing
-    /// volume is built from these (the GL_SELECT backend), so both test the same volume.
+    /// volume is built from these (the GL_SELECT backend), so both test the same volume
+    /// (the supporting planes at sharp corners, redundant, are not listed: the GL volume
+    /// finds candidates, which [`Cell::meets_triangle`] confirms).
     pub fn planes(&self) -> &[[f64; 4]] {
-        &self.planes[..self.count]
+        &self.planes[..self.shown]
     }
 
     /// The prism over a triangle (5 planes), rather than the box of a degenerate one (6).
     pub fn is_prism(&self) -> bool {
-        self.count == 5
+        self.shown == 5
     }
 
     fn push(&mut self, n: P3, d: f64) {
@@ -270,6 +298,62 @@ mod tests {
             assert!(-a[3] <= b[3], "an empty slab"); // a . x in [-a[3], b[3]]
         }
         assert_eq!(d.origin(), seg[0]);
+    }
+
+    /// A needle (tip angle about 1e-10) rounds its volume's two long sides into nearly one
+    /// plane: past the tip, clipping against them alone kept a sliver about ulp / angle
+    /// long (found by review with this triangle). The volume's supporting plane at a sharp
+    /// corner cuts it there: points 1e-8 to 1e-5 past the tip miss, points just inside
+    /// meet.
+    #[test]
+    fn needle_tip_is_sharp() {
+        let needle: [P3; 3] = [
+            [0.0, 0.0, 0.0],
+            [
+                -4.016898272340974e-11,
+                -2.6028002669820083e-11,
+                -8.780088461834978e-11,
+            ],
+            [-0.6565284132957458, 0.7502625584602356, 0.07795185595750809],
+        ];
+        let mut rng = crate::geom::test_rng::Rng(0x7E3D_1E5E_u64);
+        for (o, scale) in [(0.0, 1.0), (1e3, 1.0), (0.0, 1e-3), (1e5, 1e2)] {
+            let t = needle.map(|p| p.map(|x| o + x * scale));
+            let h = 0.0107 * scale;
+            let c = Cell::of_triangle(&t, h);
+            assert!(c.planes().len() == 5 && c.is_prism());
+            let tip = t[2];
+            let d = unit(&sub(&t[2], &t[0]));
+            let mut missed = 0;
+            for k in 0..2000 {
+                // Past the tip along the needle, a little to the side, within the depth.
+                let past = 10f64.powf(-8.0 + 3.0 * rng.unit()) * scale;
+                let side = rng.dir();
+                let p: P3 = std::array::from_fn(|i| {
+                    tip[i] + d[i] * past + (side[i] - d[i] * dot(&side, &d)) * past * 0.5
+                });
+                missed += usize::from(!c.meets_triangle(&[p; 3]));
+                let _ = k;
+            }
+            assert_eq!(missed, 2000, "offset {o} scale {scale}");
+            // Just inside: a tenth of the way from the tip to the base, on the long side's
+            // bisector of the two long sides, within the depth.
+            let m: P3 = std::array::from_fn(|i| 0.9 * t[2][i] + 0.05 * t[0][i] + 0.05 * t[1][i]);
+            let n = unit(&cross(&sub(&t[1], &t[0]), &sub(&t[2], &t[0])));
+            let q: P3 = std::array::from_fn(|i| m[i] + n[i] * h * 0.5);
+            assert!(c.meets_triangle(&[q; 3]), "offset {o} scale {scale}");
+        }
+        // The review's triangle just past the tip (1.1e-7 past it by an exact rational
+        // computation): clipped against the long sides alone it kept a sliver.
+        let b: [P3; 3] = [
+            [-0.6400055289268494, 0.7659923434257507, 0.06572958081960678],
+            [-0.6660141944885254, 0.7412342429161072, 0.08496793359518051],
+            [-0.40299293398857117, 0.8378798365592957, 0.3872389793395996],
+        ];
+        let h = f64::from((2.0 * 1.0726893320679665e-2) as f32) / 2.0;
+        assert!(!Cell::of_triangle(&needle, h).meets_triangle(&b));
+        let rot = [needle[1], needle[2], needle[0]];
+        assert!(!Cell::of_triangle(&rot, h).meets_triangle(&b));
     }
 
     #[test]
