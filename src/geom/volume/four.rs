@@ -172,10 +172,15 @@ impl Seen {
         [(fy.like(0.0), ex), (-fy, fx - ex), (fy, -fx)]
     }
 
-    /// `t` certainly misses the prism: all its corners on the far side of one of the
-    /// prism's planes (the cheap first test).
+    /// `t`'s corners beyond one of the prism's planes, all of them, and by more than `h`
+    /// for a side plane when `BY_H` (certainly: with the margins). Without, `t` misses the
+    /// prism (the cheap first test); with, `t` is farther than `h` from `a` (the
+    /// caps' test, `empty`, already says so: `|w| > h`), so neither triangle meets the
+    /// other's volume (every point of a volume lies within `h` of its triangle) and one
+    /// `Seen` answers for both ways round, `t` being well shaped too (the caller's check:
+    /// see the module documentation).
     #[inline(always)]
-    fn corners_miss(&self) -> M {
+    fn corners_beyond<const BY_H: bool>(&self, h: F) -> M {
         let m = self.margin();
         let (xs, ys) = (self.xs, self.ys);
         let t = [
@@ -183,31 +188,14 @@ impl Seen {
             P2 { x: xs[1], y: ys[1] },
             P2 { x: xs[2], y: ys[2] },
         ];
-        let mut apart = self.empty;
-        for (kx, ky) in self.edge_axes() {
-            apart = apart.or(axis(kx, ky, &t, &self.corners, m).0);
-        }
-        self.ok.and(apart)
-    }
-
-    /// `t` is certainly farther than `h` from `a`: all its corners farther than `h` from
-    /// `a`'s plane on one side (the volume's caps), or beyond one of the volume's side
-    /// planes by more than `h`. Then neither triangle meets the other's volume (every point
-    /// of a volume lies within `h` of its triangle), and one `Seen` answers for both ways
-    /// round, `t` being well shaped too (the caller's check: see the module documentation).
-    #[inline(always)]
-    fn corners_far(&self, h: F) -> M {
-        let m = self.margin();
-        let (xs, ys) = (self.xs, self.ys);
-        let t = [
-            P2 { x: xs[0], y: ys[0] },
-            P2 { x: xs[1], y: ys[1] },
-            P2 { x: xs[2], y: ys[2] },
-        ];
-        let mut far = self.empty;
+        let mut beyond = self.empty;
         for (kx, ky) in self.edge_axes() {
             // Beyond by `h` along the unit axis: by `h |k|` along `k`.
-            let reach = h * (kx * kx + ky * ky).sqrt() + m;
+            let reach = if BY_H {
+                h * (kx * kx + ky * ky).sqrt() + m
+            } else {
+                m
+            };
             let (c0, c1, c2) = (
                 self.corners[0].along(kx, ky),
                 self.corners[1].along(kx, ky),
@@ -216,9 +204,9 @@ impl Seen {
             let (alo, ahi) = (c0.min(c1).min(c2), c0.max(c1).max(c2));
             let (v0, v1, v2) = (t[0].along(kx, ky), t[1].along(kx, ky), t[2].along(kx, ky));
             let (tlo, thi) = (v0.min(v1).min(v2), v0.max(v1).max(v2));
-            far = far.or(thi.lt(alo - reach).or(tlo.gt(ahi + reach)));
+            beyond = beyond.or(thi.lt(alo - reach).or(tlo.gt(ahi + reach)));
         }
-        self.ok.and(far)
+        self.ok.and(beyond)
     }
 }
 
@@ -316,9 +304,9 @@ pub(crate) unsafe fn band_far(
     let (ta, tb, h) = unsafe { (load(a), load(b), F::splat(h)) };
     let seen = Seen::of(&ta, &tb, h);
     if both {
-        seen.corners_far(h).and(shaped(&tb)).bits()
+        seen.corners_beyond::<true>(h).and(shaped(&tb)).bits()
     } else {
-        seen.corners_miss().bits()
+        seen.corners_beyond::<false>(h).bits()
     }
 }
 
