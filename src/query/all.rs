@@ -420,9 +420,10 @@ pub struct SelfPrep {
     /// `leaf_sub[l]..leaf_sub[l + 1]`.
     sub_start: Vec<u32>,
     leaf_sub: Vec<u32>,
-    /// Sub-leaf boxes, as they are and grown by `h`.
+    /// Sub-leaf boxes, as they are and grown by `h` (in lanes: a leaf pair's sub-leaf
+    /// pairs are tested eight at a time too).
     sub_boxes: Vec<Aabb>,
-    sub_grown: Vec<Aabb>,
+    sub_grown: Lanes,
     /// Per leaf-order polygon: its box; the caller's vertex indices (the first `k` count).
     poly_boxes: Vec<Aabb>,
     verts: Vec<[u32; 4]>,
@@ -629,9 +630,10 @@ impl SelfPrep {
             }
             b
         }));
-        self.sub_grown.clear();
-        self.sub_grown
-            .extend(self.sub_boxes.iter().map(|b| b.grown(h)));
+        self.sub_grown.resize(self.sub_boxes.len());
+        for (i, b) in self.sub_boxes.iter().enumerate() {
+            self.sub_grown.set(i, &b.grown(h));
+        }
     }
 
     /// Patches `a` and `b` (different) together proven free of self-intersection: both
@@ -677,14 +679,16 @@ impl SelfPrep {
     /// `j` whose boxes meet once `p`'s is grown by `h` (`p < q` when `i == j`), each pair
     /// once; `proven`: `proven_subs` of their two sub-leaves said that both lie in a patch
     /// proven free of self-intersection. With `exact` (epsilon 0) the pairs of proven
-    /// sub-leaf pairs are not enumerated at all. `masks` is scratch.
+    /// sub-leaf pairs are not enumerated at all. `masks` and `subs` are scratch.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn box_pairs(
         &self,
         i: usize,
         j: usize,
         exact: bool,
         masks: &mut Vec<u32>,
+        subs: &mut Vec<(u32, u32)>,
         mut proven_subs: impl FnMut(usize, usize) -> bool,
         mut f: impl FnMut(u32, u32, bool),
     ) {
@@ -692,26 +696,30 @@ impl SelfPrep {
             self.leaf_sub[i] as usize..self.leaf_sub[i + 1] as usize,
             self.leaf_sub[j] as usize..self.leaf_sub[j + 1] as usize,
         );
-        for a in si {
-            let g = &self.sub_grown[a];
-            let first = if i == j { a } else { sj.start };
-            for b in first..sj.end {
-                if !g.meets(&self.sub_boxes[b]) {
-                    continue;
+        // The sub-leaf pairs whose boxes meet (`a <= b` within one leaf), then their
+        // polygon box pairs.
+        subs.clear();
+        self.sub_grown
+            .each_pair(si, &self.sub_boxes[sj.clone()], masks, |a, b| {
+                let b = sj.start as u32 + b;
+                if i != j || a <= b {
+                    subs.push((a, b));
                 }
-                let proven = proven_subs(a, b);
-                if proven && exact {
-                    continue;
-                }
-                let rb = self.sub(b);
-                let cands = &self.boxes[rb.clone()];
-                self.lanes.each_pair(self.sub(a), cands, masks, |x, y| {
-                    let (p, q) = (self.order[x as usize], self.order[rb.start + y as usize]);
-                    if a != b || p < q {
-                        f(p, q, proven);
-                    }
-                });
+            });
+        for &(a, b) in subs.iter() {
+            let (a, b) = (a as usize, b as usize);
+            let proven = proven_subs(a, b);
+            if proven && exact {
+                continue;
             }
+            let rb = self.sub(b);
+            let cands = &self.boxes[rb.clone()];
+            self.lanes.each_pair(self.sub(a), cands, masks, |x, y| {
+                let (p, q) = (self.order[x as usize], self.order[rb.start + y as usize]);
+                if a != b || p < q {
+                    f(p, q, proven);
+                }
+            });
         }
     }
 }
@@ -723,6 +731,8 @@ pub struct SelfScratch {
     adjacent: Vec<(u32, u32)>,
     apart: Vec<(u32, u32)>,
     masks: Vec<u32>,
+    /// Sub-leaf pairs of the leaf pair at hand whose boxes meet.
+    subs: Vec<(u32, u32)>,
     check: PatchCheck,
     /// Patch pairs of the leaf pair at hand whose union was tried, and the outcome.
     unions: Vec<((u32, u32), bool)>,
@@ -847,6 +857,7 @@ pub fn self_pairs(
             j as usize,
             exact,
             &mut s.masks,
+            &mut s.subs,
             proven_subs,
             |p, q, proven| {
                 let (vp, vq) = (&prep.verts[p as usize], &prep.verts[q as usize]);
