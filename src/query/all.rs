@@ -736,10 +736,13 @@ pub struct SelfScratch {
     check: PatchCheck,
     /// Patch pairs of the leaf pair at hand whose union was tried, and the outcome.
     unions: Vec<((u32, u32), bool)>,
-    /// Polygons prepared for the narrow test (by leaf-order index), valid for the task
-    /// whose stamp they carry; their viewing volumes likewise (`h > 0`).
-    prepared: Vec<(u64, Prepared)>,
-    cells: Vec<(u64, Option<[Cell; 2]>)>,
+    /// Polygons prepared for the narrow test (by leaf-order index) in the task at hand;
+    /// their viewing volumes likewise (`h > 0`). Made on demand, only for the pairs the
+    /// lanes leave undecided and for quads: a few per task, so kept in a short list with a
+    /// slot per polygon rather than a full-size value per polygon (a 92k-triangle cloth
+    /// would need ~28 MB of preparations and ~55 MB of volumes per worker).
+    prepared: Slots<Prepared>,
+    cells: Slots<[Cell; 2]>,
     /// Tasks run so far (64 bits: never wraps, so a stale entry never looks fresh).
     stamp: u64,
 }
@@ -913,16 +916,13 @@ pub fn self_pairs(
     s.stamp += 1;
     let stamp = s.stamp;
     let n = m.polygon_count();
-    if s.prepared.len() < n {
-        s.prepared.resize(n, (0, Prepared::default()));
-    }
-    if h > 0.0 && s.cells.len() < n {
-        s.cells.resize(n, (0, None));
+    s.prepared.start(n, stamp);
+    if h > 0.0 {
+        s.cells.start(n, stamp);
     }
     let mut judge = Apart {
         m,
         tris: (k == 3).then_some(&prep.tris[..]),
-        stamp,
         h,
         prepared: &mut s.prepared,
         cells: &mut s.cells,
@@ -961,10 +961,9 @@ struct Apart<'a, F> {
     /// lanes read them there, and only the pairs they leave undecided are prepared (the
     /// preparation's scattered writes over a big mesh cost more than the test).
     tris: Option<&'a [[P3; 3]]>,
-    stamp: u64,
     h: f64,
-    prepared: &'a mut [(u64, Prepared)],
-    cells: &'a mut [(u64, Option<[Cell; 2]>)],
+    prepared: &'a mut Slots<Prepared>,
+    cells: &'a mut Slots<[Cell; 2]>,
     push: F,
 }
 
@@ -973,24 +972,25 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
     /// other's viewing volumes.
     #[inline]
     fn scalar(&mut self, (p, q): (u32, u32)) -> bool {
-        let (p, q, h, stamp) = (p as usize, q as usize, self.h, self.stamp);
-        prepare(self.m, p, stamp, self.prepared);
-        prepare(self.m, q, stamp, self.prepared);
-        let (a, b) = (&self.prepared[p].1, &self.prepared[q].1);
+        let (p, q, h) = (p as usize, q as usize, self.h);
+        let m = self.m;
+        let ip = self.prepared.get(p, || prepared(m, p));
+        let iq = self.prepared.get(q, || prepared(m, q));
+        let (a, b) = (&self.prepared.made[ip], &self.prepared.made[iq]);
         if h == 0.0 {
             return a.meets(b, None);
         }
-        fill_cells(a, p, h, stamp, self.cells);
+        let ca = self.cells.get(p, || a.cells(h));
+        let ca = &self.cells.made[ca];
         // Farther than `h` apart: neither meets the other's volumes (saves making `b`'s
         // and clipping both ways).
-        let far = self.cells[p]
-            .1
-            .as_ref()
-            .is_some_and(|c| a.far_apart(c, b, h));
-        !far && (a.meets(b, self.cells[p].1.as_ref()) || {
-            fill_cells(b, q, h, stamp, self.cells);
-            b.meets(a, self.cells[q].1.as_ref())
-        })
+        if a.far_apart(ca, b, h) {
+            return false;
+        }
+        a.meets(b, Some(ca)) || {
+            let cb = self.cells.get(q, || b.cells(h));
+            b.meets(a, Some(&self.cells.made[cb]))
+        }
     }
 }
 
@@ -1002,9 +1002,10 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
             (*a, *b) = (t[p as usize], t[q as usize]);
             return true;
         }
-        prepare(self.m, p as usize, self.stamp, self.prepared);
-        prepare(self.m, q as usize, self.stamp, self.prepared);
-        let (x, y) = (&self.prepared[p as usize].1, &self.prepared[q as usize].1);
+        let m = self.m;
+        let ip = self.prepared.get(p as usize, || prepared(m, p as usize));
+        let iq = self.prepared.get(q as usize, || prepared(m, q as usize));
+        let (x, y) = (&self.prepared.made[ip], &self.prepared.made[iq]);
         if x.poly.n != 1 || y.poly.n != 1 {
             return false;
         }
@@ -1021,23 +1022,54 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
     }
 }
 
-/// Prepares leaf-order polygon `p` of `m` for the narrow test, unless done for this task.
+/// Leaf-order polygon `p` of `m` prepared for the narrow test.
 #[inline]
-fn prepare(m: &Mesh, p: usize, stamp: u64, prepared: &mut [(u64, Prepared)]) {
-    let (at, prep) = &mut prepared[p];
-    if *at != stamp {
-        let n = m.triangles(p, &mut prep.poly.tris);
-        prep.remake(n);
-        *at = stamp;
+fn prepared(m: &Mesh, p: usize) -> Prepared {
+    let mut prep = Prepared::default();
+    let n = m.triangles(p, &mut prep.poly.tris);
+    prep.remake(n);
+    prep
+}
+
+/// Values made on demand during one task, by leaf-order polygon: a slot per polygon (the
+/// task's stamp and a position in `made`), the values in the order they were made.
+struct Slots<T> {
+    at: Vec<(u64, u32)>,
+    made: Vec<T>,
+    stamp: u64,
+}
+
+impl<T> Default for Slots<T> {
+    fn default() -> Self {
+        Slots {
+            at: Vec::new(),
+            made: Vec::new(),
+            stamp: 0,
+        }
     }
 }
 
-/// Makes the viewing volumes of prepared polygon `a` (leaf-order index `p`), unless done
-/// for this task.
-#[inline]
-fn fill_cells(a: &Prepared, p: usize, h: f64, stamp: u64, cells: &mut [(u64, Option<[Cell; 2]>)]) {
-    if cells[p].0 != stamp {
-        cells[p] = (stamp, Some(a.cells(h)));
+impl<T> Slots<T> {
+    /// A new task, `stamp` (never seen before), over `n` polygons: nothing made yet.
+    fn start(&mut self, n: usize, stamp: u64) {
+        if self.at.len() < n {
+            self.at.resize(n, (0, 0));
+        }
+        self.made.clear();
+        self.stamp = stamp;
+    }
+
+    /// The position in `made` of polygon `p`'s value, made by `make` on first use.
+    #[inline]
+    fn get(&mut self, p: usize, make: impl FnOnce() -> T) -> usize {
+        let (at, i) = self.at[p];
+        if at == self.stamp {
+            return i as usize;
+        }
+        let i = self.made.len();
+        self.made.push(make());
+        self.at[p] = (self.stamp, i as u32);
+        i
     }
 }
 
