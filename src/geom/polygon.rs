@@ -62,6 +62,17 @@ impl Prepared {
         };
     }
 
+    /// This polygon's and `o`'s triangles written to `a` and `b` when both are triangles
+    /// (what the four-lane kernels take); `false`, writing nothing, when either is a quad.
+    #[inline]
+    pub fn triangle_pair(&self, o: &Prepared, a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+        if self.poly.n != 1 || o.poly.n != 1 {
+            return false;
+        }
+        (*a, *b) = (self.poly.tris[0], o.poly.tris[0]);
+        true
+    }
+
     /// The viewing volumes of the polygon's triangles (`h > 0`).
     pub fn cells(&self, h: f64) -> [Cell; 2] {
         [

@@ -32,6 +32,28 @@ pub struct Cell {
     shown: usize,
 }
 
+/// A needle reference (a 1e-10 edge next to a right angle), a triangle 1.1e-7 past its tip
+/// (by an exact rational computation) that the needle's volume once kept, and the epsilon
+/// they were found at (by review): for the tests here and of the lanes.
+#[cfg(test)]
+pub(crate) const NEEDLE_PAST_TIP: ([P3; 3], [P3; 3], f32) = (
+    [
+        [0.0, 0.0, 0.0],
+        [
+            -4.016898272340974e-11,
+            -2.6028002669820083e-11,
+            -8.780088461834978e-11,
+        ],
+        [-0.6565284132957458, 0.7502625584602356, 0.07795185595750809],
+    ],
+    [
+        [-0.6400055289268494, 0.7659923434257507, 0.06572958081960678],
+        [-0.6660141944885254, 0.7412342429161072, 0.08496793359518051],
+        [-0.40299293398857117, 0.8378798365592957, 0.3872389793395996],
+    ],
+    (2.0 * 1.0726893320679665e-2) as f32,
+);
+
 /// A corner is sharp below this cosine of its angle (about 1e-2 radian): the position of
 /// its two sides' crossing is then a hundred times less accurate than the sides.
 const COS_SHARP: f64 = 0.99995;
@@ -307,15 +329,7 @@ mod tests {
     /// meet.
     #[test]
     fn needle_tip_is_sharp() {
-        let needle: [P3; 3] = [
-            [0.0, 0.0, 0.0],
-            [
-                -4.016898272340974e-11,
-                -2.6028002669820083e-11,
-                -8.780088461834978e-11,
-            ],
-            [-0.6565284132957458, 0.7502625584602356, 0.07795185595750809],
-        ];
+        let (needle, b, eps) = NEEDLE_PAST_TIP;
         let mut rng = crate::geom::test_rng::Rng(0x7E3D_1E5E_u64);
         for (o, scale) in [(0.0, 1.0), (1e3, 1.0), (0.0, 1e-3), (1e5, 1e2)] {
             let t = needle.map(|p| p.map(|x| o + x * scale));
@@ -343,14 +357,9 @@ mod tests {
             let q: P3 = std::array::from_fn(|i| m[i] + n[i] * h * 0.5);
             assert!(c.meets_triangle(&[q; 3]), "offset {o} scale {scale}");
         }
-        // The review's triangle just past the tip (1.1e-7 past it by an exact rational
-        // computation): clipped against the long sides alone it kept a sliver.
-        let b: [P3; 3] = [
-            [-0.6400055289268494, 0.7659923434257507, 0.06572958081960678],
-            [-0.6660141944885254, 0.7412342429161072, 0.08496793359518051],
-            [-0.40299293398857117, 0.8378798365592957, 0.3872389793395996],
-        ];
-        let h = f64::from((2.0 * 1.0726893320679665e-2) as f32) / 2.0;
+        // The review's triangle just past the tip: clipped against the long sides alone it
+        // kept a sliver.
+        let h = f64::from(eps) / 2.0;
         assert!(!Cell::of_triangle(&needle, h).meets_triangle(&b));
         let rot = [needle[1], needle[2], needle[0]];
         assert!(!Cell::of_triangle(&rot, h).meets_triangle(&b));

@@ -1005,12 +1005,7 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
         let m = self.m;
         let ip = self.prepared.get(p as usize, || prepared(m, p as usize));
         let iq = self.prepared.get(q as usize, || prepared(m, q as usize));
-        let (x, y) = (&self.prepared.made[ip], &self.prepared.made[iq]);
-        if x.poly.n != 1 || y.poly.n != 1 {
-            return false;
-        }
-        (*a, *b) = (x.poly.tris[0], y.poly.tris[0]);
-        true
+        self.prepared.made[ip].triangle_pair(&self.prepared.made[iq], a, b)
     }
     #[inline]
     fn scalar(&mut self, key: (u32, u32)) -> bool {

@@ -455,11 +455,7 @@ impl crate::geom::batch::Judge<(u32, u32)> for Five<'_> {
     #[inline]
     fn triangles(&mut self, key: (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
         let (pv, pc) = self.both(key);
-        if pv.poly.n != 1 || pc.poly.n != 1 {
-            return false;
-        }
-        (*a, *b) = (pv.poly.tris[0], pc.poly.tris[0]);
-        true
+        pv.triangle_pair(pc, a, b)
     }
     #[inline]
     fn scalar(&mut self, key: (u32, u32)) -> bool {

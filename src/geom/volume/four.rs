@@ -63,11 +63,19 @@ fn l1(w: &W) -> F {
 /// and NaN fail.
 #[inline(always)]
 fn shaped(t: &[W; 3]) -> M {
-    let e = t[1].sub(&t[0]);
-    let f = t[2].sub(&t[0]);
-    let g = t[2].sub(&t[1]);
-    let l = e.norm_squared().max(f.norm_squared()).max(g.norm_squared());
-    e.cross(&f).norm_squared().gt(l * l * l.like(1e-6))
+    let (e, f) = (t[1].sub(&t[0]), t[2].sub(&t[0]));
+    shaped_by(t, &e, &f, e.cross(&f).norm_squared())
+}
+
+/// [`shaped`] given `t`'s edges `e = t1 - t0`, `f = t2 - t0` and `|e x f|^2`, when the
+/// caller has them already.
+#[inline(always)]
+fn shaped_by(t: &[W; 3], e: &W, f: &W, nn: F) -> M {
+    let l = e
+        .norm_squared()
+        .max(f.norm_squared())
+        .max(t[2].sub(&t[1]).norm_squared());
+    nn.gt(l * l * l.like(1e-6))
 }
 
 /// The separating-axis answer along `(kx, ky)`: (certainly separated, certainly
@@ -116,7 +124,7 @@ impl Seen {
         let f = a[2].sub(&a[0]);
         let nv = e.cross(&f);
         let (nn, ee) = (nv.norm_squared(), e.norm_squared());
-        let ok = shaped(a);
+        let ok = shaped_by(a, &e, &f, nn);
         let n = nv.scale(h.like(1.0) / nn.sqrt());
         let ex = ee.sqrt();
         let u = e.scale(h.like(1.0) / ex);
@@ -431,21 +439,8 @@ mod tests {
         if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
             return;
         }
-        let a: [P3; 3] = [
-            [0.0, 0.0, 0.0],
-            [
-                -4.016898272340974e-11,
-                -2.6028002669820083e-11,
-                -8.780088461834978e-11,
-            ],
-            [-0.6565284132957458, 0.7502625584602356, 0.07795185595750809],
-        ];
-        let b: [P3; 3] = [
-            [-0.6400055289268494, 0.7659923434257507, 0.06572958081960678],
-            [-0.6660141944885254, 0.7412342429161072, 0.08496793359518051],
-            [-0.40299293398857117, 0.8378798365592957, 0.3872389793395996],
-        ];
-        let h = f64::from((2.0 * 1.0726893320679665e-2) as f32) / 2.0;
+        let (a, b, eps) = crate::geom::volume::NEEDLE_PAST_TIP;
+        let h = f64::from(eps) / 2.0;
         for both in [false, true] {
             for (x, y) in [(a, b), (b, a)] {
                 // SAFETY: AVX2 and FMA checked above.
