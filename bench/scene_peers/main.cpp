@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -260,8 +261,14 @@ int main(int argc, char **argv) {
     for (int i = 1; i < argc; i++) {
         if (!std::strcmp(argv[i], "--frames") && i + 1 < argc)
             frames = std::atoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--eps") && i + 1 < argc)
-            rel = std::atof(argv[++i]);
+        else if (!std::strcmp(argv[i], "--eps") && i + 1 < argc) {
+            char *end = nullptr;
+            rel = std::strtod(argv[++i], &end);
+            if (end == argv[i] || *end || !std::isfinite(rel) || rel < 0) {
+                std::fprintf(stderr, "scene_peers: --eps wants a finite number >= 0, got '%s'\n", argv[i]);
+                return 2;
+            }
+        }
         else if (!std::strcmp(argv[i], "--quick"))
             quick = true;
         else if (!std::strcmp(argv[i], "--meshes") && i + 1 < argc)
