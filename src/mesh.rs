@@ -687,8 +687,26 @@ impl Mesh {
     /// The triangles of the caller's polygon `polygon` (as [`Mesh::triangles`]), or `None`
     /// when the mesh has no such polygon.
     pub fn polygon_triangles(&self, polygon: u32, out: &mut [[P3; 3]; 2]) -> Option<usize> {
-        let at = *self.poly_leaf.get(polygon as usize)?;
-        Some(self.triangles(at as usize, out))
+        let [first, second] = out;
+        self.polygon_triangles_into(polygon, [first, second])
+    }
+
+    /// [`Mesh::polygon_triangles`] into two separate places (the first triangle, a quad's
+    /// second): the contact geometry writes a polygon's first triangle straight into its
+    /// lane of a batch.
+    #[inline(always)]
+    pub fn polygon_triangles_into(&self, polygon: u32, out: [&mut [P3; 3]; 2]) -> Option<usize> {
+        let at = *self.poly_leaf.get(polygon as usize)? as usize;
+        let v = self.poly(at);
+        let w = |i: usize| self.world(v[i] as usize);
+        let [first, second] = out;
+        *first = [w(0), w(1), w(2)];
+        Some(if self.k == 4 {
+            *second = [w(0), w(2), w(3)];
+            2
+        } else {
+            1
+        })
     }
 
     /// The triangles of leaf-ordered polygon `p` at their world positions: one for a

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
-use crate::geom::contact::{contact_geometry_many, ContactGeometry};
+use crate::geom::contact::{contact_geometry_many, ContactGeometry, PolygonPairs};
 use crate::geom::P3;
 use crate::mesh::{Mesh, Positions};
 use crate::query::all::{self as whole, AllStats, BroadPhase, SceneMesh, SelfPrep, SelfScratch};
@@ -751,13 +751,18 @@ impl Scene {
         let (meshes, contacts, pairs) = (&self.meshes, &self.contacts, &self.pairs);
         // Entries `out` from pair `base` on.
         let fill = |out: &mut [ContactGeometry], base: usize| -> Result<()> {
-            let mut seen: Last = [None; 2];
-            contact_geometry_many(out, known, |i, ta, tb| {
-                let (a, pa, b, pb) = item(last, contacts, pairs, base + i);
-                let na = polygon(meshes, &mut seen, 0, a, pa, ta)?;
-                let nb = polygon(meshes, &mut seen, 1, b, pb, tb)?;
-                Ok((na, nb))
-            })
+            contact_geometry_many(
+                out,
+                known,
+                AnswerPairs {
+                    last,
+                    contacts,
+                    pairs,
+                    meshes,
+                    base,
+                    seen: [None; 2],
+                },
+            )
         };
         match &self.pool {
             Some(pool) if n > PAR_GEOMETRY => pool.install(|| {
@@ -799,7 +804,35 @@ const UNSET: ContactGeometry = ContactGeometry {
     coplanar: false,
 };
 
+/// The pairs of the last answer from `base` on, as [`contact_geometry_many`] reads them.
+struct AnswerPairs<'m> {
+    last: LastQuery,
+    contacts: &'m [Contact],
+    pairs: &'m [Pair],
+    meshes: &'m BTreeMap<MeshId, Mesh>,
+    base: usize,
+    /// The mesh of each side last read.
+    seen: Last<'m>,
+}
+
+impl PolygonPairs for AnswerPairs<'_> {
+    type Error = Error;
+    #[inline(always)]
+    fn fetch(
+        &mut self,
+        i: usize,
+        ta: [&mut [P3; 3]; 2],
+        tb: [&mut [P3; 3]; 2],
+    ) -> Result<(usize, usize)> {
+        let (a, pa, b, pb) = item(self.last, self.contacts, self.pairs, self.base + i);
+        let na = polygon(self.meshes, &mut self.seen, 0, a, pa, ta)?;
+        let nb = polygon(self.meshes, &mut self.seen, 1, b, pb, tb)?;
+        Ok((na, nb))
+    }
+}
+
 /// Pair `k` of the last answer as (mesh a, polygon a, mesh b, polygon b).
+#[inline(always)]
 fn item(
     last: LastQuery,
     contacts: &[Contact],
@@ -824,13 +857,14 @@ type Last<'m> = [Option<(MeshId, &'m Mesh)>; 2];
 
 /// Fills `out` with polygon `p` of mesh `id` (its triangles in world positions), returning
 /// how many.
+#[inline(always)]
 fn polygon<'m>(
     meshes: &'m BTreeMap<MeshId, Mesh>,
     last: &mut Last<'m>,
     side: usize,
     id: MeshId,
     p: u32,
-    out: &mut [[P3; 3]; 2],
+    out: [&mut [P3; 3]; 2],
 ) -> Result<usize> {
     let m = match last[side] {
         Some((at, m)) if at == id => m,
@@ -840,7 +874,7 @@ fn polygon<'m>(
             m
         }
     };
-    m.polygon_triangles(p, out)
+    m.polygon_triangles_into(p, out)
         .ok_or_else(|| Error::new(ErrorKind::Internal, format!("mesh {id} has no polygon {p}")))
 }
 

@@ -16,7 +16,8 @@
 // medians over the frames and the ratio of the sums. Wall-clock time on a shared machine:
 // read the ratios, not the absolute values.
 //
-//   contact_cost [--meshes DIR] [--frames N] [--reps N] [--only TEXT] [--markdown FILE]
+//   contact_cost [--meshes DIR] [--frames N] [--reps N] [--only TEXT] [--markdown FILE] [--no-peers]
+// (--no-peers: glcollide alone, its columns only meaningful; for profiling and A/B runs)
 #include "peer_contacts.hpp"
 #include "scenes.hpp"
 
@@ -56,7 +57,7 @@ double sum(const std::vector<double> &v) {
     return s;
 }
 
-Result run(const Scene &S, int frames, int reps) {
+Result run(const Scene &S, int frames, int reps, bool peers) {
     Result r;
     r.name = S.name;
     r.ta = S.A.mesh.ntri();
@@ -117,6 +118,7 @@ Result run(const Scene &S, int frames, int reps) {
         r.q.push_back(tq);
         r.g.push_back(tg);
         npairs.push_back(double(n));
+        if (!peers) continue;
         // FCL, pairs only and with contacts.
         fcl->prepare(fr);
         fcl->update(fr);
@@ -161,6 +163,7 @@ Result run(const Scene &S, int frames, int reps) {
 int main(int argc, char **argv) {
     std::string dir = "../shared/meshes", only, md;
     int frames = 40, reps = 3;
+    bool peers = true;
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -175,8 +178,9 @@ int main(int argc, char **argv) {
         else if (a == "--reps") reps = atoi(next().c_str());
         else if (a == "--only") only = next();
         else if (a == "--markdown") md = next();
+        else if (a == "--no-peers") peers = false;
         else {
-            fprintf(stderr, "usage: contact_cost [--meshes DIR] [--frames N] [--reps N] [--only TEXT] [--markdown FILE]\n");
+            fprintf(stderr, "usage: contact_cost [--meshes DIR] [--frames N] [--reps N] [--only TEXT] [--markdown FILE] [--no-peers]\n");
             return 2;
         }
     }
@@ -192,7 +196,7 @@ int main(int argc, char **argv) {
             scenes.push_back(instrument_vs_organ(load_obj(dir, "forceps_jaw"), load_obj(dir, "colon"), d1, 100));
         for (auto &S : scenes) {
             if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-            rs.push_back(run(S, frames, reps));
+            rs.push_back(run(S, frames, reps, peers));
             fprintf(stderr, "%s done\n", S.name.c_str());
         }
     } catch (const std::exception &e) {
@@ -208,7 +212,7 @@ int main(int argc, char **argv) {
     o += buf;
     for (auto &r : rs) {
         snprintf(buf, sizeof buf,
-                 "| %s | %zu x %zu | %d | %.0f | %.1f | %.1f | %.1f%% (sums %.1f%%) | %.1f | %.1f | %.2fx | %.0f%% | %.1f | "
+                 "| %s | %zu x %zu | %d | %.0f | %.2f | %.2f | %.1f%% (sums %.1f%%) | %.1f | %.1f | %.2fx | %.0f%% | %.1f | "
                  "%.1f |\n",
                  r.name.c_str(), r.ta, r.tb, r.frames, r.pairs, median(r.q), median(r.g),
                  100 * median(r.g) / median(r.q), 100 * sum(r.g) / sum(r.q), median(r.fp), median(r.fc),

@@ -146,8 +146,13 @@ pub fn contact_geometry(
 /// [`contact_geometry`] compiled for AVX2 and FMA (three-operand and wider instructions;
 /// the same IEEE operations in the same order, so the same results: the only fused
 /// multiply-adds are the explicit `mul_add`s, which are fused everywhere).
+///
+/// Never inlined: the four-lane kernel calls it for its rare lanes, and keeping this
+/// (large) code out of the kernel's keeps the kernel's instructions few enough to stay in
+/// the instruction cache between a query and its geometry.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
+#[inline(never)]
 unsafe fn contact_geometry_avx2(
     a: &[[P3; 3]; 2],
     na: usize,
@@ -175,9 +180,55 @@ fn contact_geometry_any(
     general(a, na, b, nb)
 }
 
+/// Where [`contact_geometry_many`] reads its pairs' polygons: `fetch(i, [a0, a1], [b0,
+/// b1])` writes pair `i`'s polygons as triangles (the first ones into `a0` and `b0`, a
+/// quad's second into `a1` or `b1`) and returns how many each has, `(na, nb)` as
+/// [`contact_geometry`] takes them. A closure of that signature is one; the scene's own
+/// (the last answer's pairs, read from its meshes) is a type whose `fetch` is always
+/// inlined into the loop (a closure may be compiled as a function called per pair).
+pub trait PolygonPairs {
+    /// What stops the call.
+    type Error;
+    /// Pair `i`'s triangles (see the trait).
+    fn fetch(
+        &mut self,
+        i: usize,
+        a: [&mut [P3; 3]; 2],
+        b: [&mut [P3; 3]; 2],
+    ) -> Result<(usize, usize), Self::Error>;
+}
+
+impl<E, F> PolygonPairs for F
+where
+    F: FnMut(usize, [&mut [P3; 3]; 2], [&mut [P3; 3]; 2]) -> Result<(usize, usize), E>,
+{
+    type Error = E;
+    #[inline(always)]
+    fn fetch(
+        &mut self,
+        i: usize,
+        a: [&mut [P3; 3]; 2],
+        b: [&mut [P3; 3]; 2],
+    ) -> Result<(usize, usize), E> {
+        self(i, a, b)
+    }
+}
+
+/// A closure as [`PolygonPairs`] (this names the closure's argument types, which Rust
+/// would not infer from the trait's blanket implementation).
+pub fn polygon_pairs<E, F>(f: F) -> F
+where
+    F: FnMut(usize, [&mut [P3; 3]; 2], [&mut [P3; 3]; 2]) -> Result<(usize, usize), E>,
+{
+    f
+}
+
 /// [`contact_geometry`] of many polygon pairs, entry `i` of `out` for pair `i`, whose
-/// triangles `fetch(i, a, b)` fills (returning `(na, nb)` as `contact_geometry` takes them;
-/// an error stops the call and is returned). `known`: every pair is known to intersect
+/// triangles `fetch(i, [a0, a1], [b0, b1])` writes (the polygons' first triangles into
+/// `a0`, `b0`, a quad's second into `a1` or `b1`), returning `(na, nb)` as
+/// `contact_geometry` takes them (an error stops the call and is returned). The first
+/// triangles are written straight into their lanes: no copy of them is loaded whole
+/// before the stores behind it have landed (which stalls). `known`: every pair is known to intersect
 /// (decided by the exact test: the pairs of a query at epsilon 0). The answers are
 /// [`contact_geometry`]'s, bit for bit: triangle pairs are gathered four at a time and
 /// computed together by the fast path written over lanes (`four.rs`: the same operations
@@ -188,14 +239,11 @@ fn contact_geometry_any(
 /// quad go through [`contact_geometry`] itself. (Were a pair wrongly `known`, it is still
 /// answered exactly unless it misses by less than the rounding of its cuts: its planes'
 /// sides or its cuts on their common line show it.)
-pub fn contact_geometry_many<E, F>(
+pub fn contact_geometry_many<P: PolygonPairs>(
     out: &mut [ContactGeometry],
     known: bool,
-    mut fetch: F,
-) -> Result<(), E>
-where
-    F: FnMut(usize, &mut [[P3; 3]; 2], &mut [[P3; 3]; 2]) -> Result<(usize, usize), E>,
-{
+    mut fetch: P,
+) -> Result<(), P::Error> {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has AVX2 and FMA (checked just above).
@@ -203,80 +251,79 @@ where
     }
     // Without AVX2: one pair at a time.
     let _ = known;
-    let mut ta = [[[0.0; 3]; 3]; 2];
-    let mut tb = [[[0.0; 3]; 3]; 2];
+    let ([mut a0, mut a1], [mut b0, mut b1]) = ([[[0.0; 3]; 3]; 2], [[[0.0; 3]; 3]; 2]);
     for (i, g) in out.iter_mut().enumerate() {
-        let (na, nb) = fetch(i, &mut ta, &mut tb)?;
-        *g = contact_geometry(&ta, na, &tb, nb);
+        let (na, nb) = fetch.fetch(i, [&mut a0, &mut a1], [&mut b0, &mut b1])?;
+        *g = contact_geometry(&[a0, a1], na, &[b0, b1], nb);
     }
     Ok(())
 }
 
+/// [`band_triangles`] compiled for AVX2 and FMA, out of line (as
+/// [`contact_geometry_avx2`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+unsafe fn band_triangles_avx2(a: &[P3; 3], b: &[P3; 3]) -> ContactGeometry {
+    band_triangles(a, b)
+}
+
+/// The lanes of one batch of [`many_avx2`]: `a[l]`, `b[l]` for lane `l < n` (the others
+/// repeat lane 0), whose answer goes to `out[at[l]]`.
+#[cfg(target_arch = "x86_64")]
+type Flush = unsafe fn(
+    &[[P3; 3]; four::LANES],
+    &[[P3; 3]; four::LANES],
+    &[usize; four::LANES],
+    usize,
+    bool,
+    &mut [ContactGeometry],
+);
+
 /// [`contact_geometry_many`] on a CPU with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn many_avx2<E, F>(out: &mut [ContactGeometry], known: bool, fetch: &mut F) -> Result<(), E>
-where
-    F: FnMut(usize, &mut [[P3; 3]; 2], &mut [[P3; 3]; 2]) -> Result<(usize, usize), E>,
-{
+unsafe fn many_avx2<P: PolygonPairs>(
+    out: &mut [ContactGeometry],
+    known: bool,
+    fetch: &mut P,
+) -> Result<(), P::Error> {
     const N: usize = four::LANES;
+    // The same kernel compiled for AVX-512 where the CPU has it: the same 256-bit
+    // operations (so the same answers), with 32 vector registers instead of 16, which
+    // spares the kernel most of its spills to the stack.
+    #[cfg(test)]
+    let avx2_only = tests::AVX2_ONLY.with(|c| c.get());
+    #[cfg(not(test))]
+    let avx2_only = false;
+    let flush: Flush = if std::is_x86_feature_detected!("avx512f")
+        && std::is_x86_feature_detected!("avx512vl")
+        && !avx2_only
+    {
+        flush_avx512
+    } else {
+        flush_avx2
+    };
+    // Lane `l`'s triangles and the pair they are; a quad's second triangles.
     let mut a = [[[0.0; 3]; 3]; N];
     let mut b = [[[0.0; 3]; 3]; N];
     let mut at = [0; N];
     let mut n = 0;
-    let mut ta = [[[0.0; 3]; 3]; 2];
-    let mut tb = [[[0.0; 3]; 3]; 2];
-    // The lanes gathered so far, computed together; the lanes left over one by one.
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn flush(
-        a: &[[P3; 3]; N],
-        b: &[[P3; 3]; N],
-        at: &[usize; N],
-        n: usize,
-        known: bool,
-        out: &mut [ContactGeometry],
-    ) {
-        // The lanes that intersect: all when known, else those the exact test's lanes
-        // certify.
-        let (crossing, apart) = if known {
-            (u32::MAX, 0)
-        } else {
-            // SAFETY: the caller's promise.
-            let (decided, meets) = unsafe { super::tritri::four::intersect(a, b) };
-            (decided & meets, decided & !meets)
-        };
-        // No crossing lane (a batch of band pairs): no geometry kernel.
-        let mut found = four::Found::NONE;
-        if crossing & ((1 << n) - 1) != 0 {
-            // SAFETY: the caller's promise.
-            unsafe { four::crossing(a, b, &mut found) };
-        }
-        for l in 0..n {
-            let g = &mut out[at[l]];
-            if found.ok & crossing & (1 << l) != 0 {
-                found.write(l, g);
-            } else if apart & (1 << l) != 0 {
-                // Decided apart: what `contact_geometry` does once its own exact test has
-                // found the triangles apart (the only way it answers a pair that does not
-                // intersect), without that test.
-                *g = band_triangles(&a[l], &b[l]);
-            } else {
-                *g = contact_geometry_any(&[a[l]; 2], 1, &[b[l]; 2], 1);
-            }
-        }
-    }
+    let (mut a1, mut b1) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
     for i in 0..out.len() {
-        let (na, nb) = fetch(i, &mut ta, &mut tb)?;
+        let (na, nb) = fetch.fetch(i, [&mut a[n], &mut a1], [&mut b[n], &mut b1])?;
         if na == 1 && nb == 1 {
-            (a[n], b[n], at[n]) = (ta[0], tb[0], i);
+            at[n] = i;
             n += 1;
             if n == N {
-                // SAFETY: this function runs only on a CPU with AVX2 and FMA.
+                // SAFETY: this function runs only on a CPU with AVX2 and FMA (and the
+                // AVX-512 kernel where it has AVX-512 too).
                 unsafe { flush(&a, &b, &at, n, known, out) };
                 n = 0;
             }
         } else {
-            out[i] = contact_geometry_any(&ta, na, &tb, nb);
+            // SAFETY: this function runs only on a CPU with AVX2 and FMA.
+            out[i] = unsafe { contact_geometry_avx2(&[a[n], a1], na, &[b[n], b1], nb) };
         }
     }
     if n > 0 {
@@ -288,6 +335,83 @@ where
         unsafe { flush(&a, &b, &at, n, known, out) };
     }
     Ok(())
+}
+
+/// [`flush`] for AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn flush_avx2(
+    a: &[[P3; 3]; four::LANES],
+    b: &[[P3; 3]; four::LANES],
+    at: &[usize; four::LANES],
+    n: usize,
+    known: bool,
+    out: &mut [ContactGeometry],
+) {
+    // SAFETY: the caller's promise.
+    unsafe { flush(a, b, at, n, known, out) }
+}
+
+/// [`flush`] for AVX-512 (F and VL: 32 vector registers, mask registers for the blends).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn flush_avx512(
+    a: &[[P3; 3]; four::LANES],
+    b: &[[P3; 3]; four::LANES],
+    at: &[usize; four::LANES],
+    n: usize,
+    known: bool,
+    out: &mut [ContactGeometry],
+) {
+    // SAFETY: the caller's promise.
+    unsafe { flush(a, b, at, n, known, out) }
+}
+
+/// One batch of [`many_avx2`] (see [`Flush`]): the kernel on the lanes, and the lanes it
+/// leaves one by one.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA; the caller is compiled for them.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn flush(
+    a: &[[P3; 3]; four::LANES],
+    b: &[[P3; 3]; four::LANES],
+    at: &[usize; four::LANES],
+    n: usize,
+    known: bool,
+    out: &mut [ContactGeometry],
+) {
+    // The lanes that intersect: all when known, else those the exact test's lanes
+    // certify.
+    let (crossing, apart) = if known {
+        (u32::MAX, 0)
+    } else {
+        // SAFETY: the caller's promise.
+        let (decided, meets) = unsafe { super::tritri::four::intersect(a, b) };
+        (decided & meets, decided & !meets)
+    };
+    // No crossing lane (a batch of band pairs): no geometry kernel.
+    let mut found = four::Found::NONE;
+    if crossing & ((1 << n) - 1) != 0 {
+        // SAFETY: the caller's promise.
+        unsafe { four::crossing(a, b, &mut found) };
+    }
+    for l in 0..n {
+        let g = &mut out[at[l]];
+        if found.ok & crossing & (1 << l) != 0 {
+            found.write(l, g);
+        } else if apart & (1 << l) != 0 {
+            // Decided apart: what `contact_geometry` does once its own exact test has
+            // found the triangles apart (the only way it answers a pair that does not
+            // intersect), without that test.
+            // SAFETY: the caller's promise.
+            *g = unsafe { band_triangles_avx2(&a[l], &b[l]) };
+        } else {
+            // SAFETY: the caller's promise.
+            *g = unsafe { contact_geometry_avx2(&[a[l]; 2], 1, &[b[l]; 2], 1) };
+        }
+    }
 }
 
 /// Every case, through the polygons' structures in the local frame.
@@ -1782,6 +1906,49 @@ mod tests {
 
     const EPS: f64 = f64::EPSILON;
 
+    thread_local! {
+        /// This thread's `contact_geometry_many` uses the AVX2 kernel even where the CPU
+        /// has AVX-512 (both are tested where it has).
+        pub(super) static AVX2_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    }
+
+    /// `contact_geometry_many` with each kernel (AVX-512 where the CPU has it, and AVX2),
+    /// which must answer bit for bit alike.
+    fn both_kernels<P: PolygonPairs + Clone>(
+        out: &mut [ContactGeometry],
+        known: bool,
+        fetch: P,
+    ) -> Result<(), P::Error>
+    where
+        P::Error: std::fmt::Debug,
+    {
+        let mut other = out.to_vec();
+        AVX2_ONLY.with(|c| c.set(true));
+        let avx2 = contact_geometry_many(&mut other, known, fetch.clone());
+        AVX2_ONLY.with(|c| c.set(false));
+        avx2.unwrap();
+        contact_geometry_many(out, known, fetch)?;
+        let bits = |g: &ContactGeometry| {
+            let mut v: Vec<u64> = [g.point_a, g.point_b, g.normal]
+                .iter()
+                .flatten()
+                .map(|x| x.to_bits())
+                .collect();
+            v.extend([g.depth.to_bits(), g.intersecting as u64, g.coplanar as u64]);
+            v
+        };
+        for (g, h) in out.iter().zip(&other) {
+            assert_eq!(bits(g), bits(h), "{g:?} {h:?}");
+        }
+        Ok(())
+    }
+
+    /// A polygon's triangles into the places `contact_geometry_many`'s fetch is given.
+    fn put(dst: [&mut [P3; 3]; 2], src: &[[P3; 3]; 2]) {
+        let [first, second] = dst;
+        (*first, *second) = (src[0], src[1]);
+    }
+
     // ---------------------------------------------------------------- double-double
 
     /// An unevaluated sum `hi + lo`, about 106 bits.
@@ -3142,10 +3309,15 @@ mod tests {
             }
         }
         let mut out = vec![geometry(&pairs[0].0, &pairs[0].1); pairs.len()];
-        contact_geometry_many::<(), _>(&mut out, true, |i, a, b| {
-            (*a, *b) = (pairs[i].0.t, pairs[i].1.t);
-            Ok((pairs[i].0.n, pairs[i].1.n))
-        })
+        both_kernels(
+            &mut out,
+            true,
+            polygon_pairs(|i, a, b| {
+                put(a, &pairs[i].0.t);
+                put(b, &pairs[i].1.t);
+                Ok::<_, ()>((pairs[i].0.n, pairs[i].1.n))
+            }),
+        )
         .unwrap();
         let bits = |g: &ContactGeometry| {
             let f = |v: &[f64]| v.iter().map(|x| (x + 0.0).to_bits()).collect::<Vec<_>>();
@@ -3172,10 +3344,15 @@ mod tests {
             }
         }
         let mut out = vec![geometry(&apart[0].0, &apart[0].1); apart.len()];
-        contact_geometry_many::<(), _>(&mut out, true, |i, a, b| {
-            (*a, *b) = (apart[i].0.t, apart[i].1.t);
-            Ok((1, 1))
-        })
+        both_kernels(
+            &mut out,
+            true,
+            polygon_pairs(|i, a, b| {
+                put(a, &apart[i].0.t);
+                put(b, &apart[i].1.t);
+                Ok::<_, ()>((1, 1))
+            }),
+        )
         .unwrap();
         for ((a, b), g) in apart.iter().zip(&out) {
             assert!(!g.intersecting, "{a:?} {b:?}");
@@ -3189,10 +3366,15 @@ mod tests {
             .flat_map(|(p, q)| [*p, *q])
             .collect();
         let mut out = vec![geometry(&mixed[0].0, &mixed[0].1); mixed.len()];
-        contact_geometry_many::<(), _>(&mut out, false, |i, a, b| {
-            (*a, *b) = (mixed[i].0.t, mixed[i].1.t);
-            Ok((mixed[i].0.n, mixed[i].1.n))
-        })
+        both_kernels(
+            &mut out,
+            false,
+            polygon_pairs(|i, a, b| {
+                put(a, &mixed[i].0.t);
+                put(b, &mixed[i].1.t);
+                Ok::<_, ()>((mixed[i].0.n, mixed[i].1.n))
+            }),
+        )
         .unwrap();
         for ((a, b), g) in mixed.iter().zip(&out) {
             assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
@@ -3535,6 +3717,39 @@ mod tests {
                  alone: {base:.1} ns)",
                 pairs.len()
             );
+        }
+        // What a query's answer at epsilon 0 gets: the crossing pairs through
+        // `contact_geometry_many` (four at a time), all at once and in calls of 10 pairs
+        // (an instrument's answer).
+        let crossing = &sets[0].1;
+        let mut out = vec![geometry(&crossing[0].0, &crossing[0].1); crossing.len()];
+        // (The least wall time of many short runs: steadier here than CPU time, which
+        // this machine's scheduler reports in coarse steps.)
+        for chunk in [crossing.len(), 10] {
+            let reps = 10;
+            let n = (reps * crossing.len()) as f64;
+            let mut best = f64::INFINITY;
+            for _ in 0..100 {
+                let t0 = Instant::now();
+                {
+                    for _ in 0..reps {
+                        for (c, o) in crossing.chunks(chunk).zip(out.chunks_mut(chunk)) {
+                            contact_geometry_many(
+                                black_box(o),
+                                true,
+                                polygon_pairs(|i, a, b| {
+                                    put(a, &c[i].0.t);
+                                    put(b, &c[i].1.t);
+                                    Ok::<_, ()>((1, 1))
+                                }),
+                            )
+                            .unwrap();
+                        }
+                    }
+                }
+                best = best.min(t0.elapsed().as_nanos() as f64 / n);
+            }
+            println!("  four at a time, calls of {chunk:>4}: {best:7.1} ns/pair of CPU time");
         }
     }
 }
