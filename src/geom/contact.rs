@@ -19,6 +19,8 @@
 
 use nalgebra::Vector3;
 
+#[cfg(target_arch = "x86_64")]
+use super::lanes::TriLanes;
 use super::predicates::{collinear, orient2d, orient3d, orient3d_filtered, P3};
 use super::tritri::{segments_intersect_2d, separated, triangles_intersect_with, Plane};
 
@@ -28,7 +30,9 @@ mod four;
 type V = Vector3<f64>;
 
 /// The geometry of one polygon pair (see [`contact_geometry`] for the exact rules).
+/// (`repr(C)`: the four-lane kernel writes the ten `f64` as one run.)
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct ContactGeometry {
     /// Intersecting: one end of the intersection's longest extent. Otherwise: the point of
     /// polygon `a` closest to polygon `b`.
@@ -47,6 +51,15 @@ pub struct ContactGeometry {
     /// `depth` is 0 and `normal` is `a`'s normal. Always false when not intersecting.
     pub coplanar: bool,
 }
+
+// What `four::crossing` relies on: the ten f64 fields in one run, in this order.
+const _: () = {
+    use std::mem::offset_of;
+    assert!(offset_of!(ContactGeometry, point_a) == 0);
+    assert!(offset_of!(ContactGeometry, point_b) == 24);
+    assert!(offset_of!(ContactGeometry, normal) == 48);
+    assert!(offset_of!(ContactGeometry, depth) == 72);
+};
 
 /// The contact geometry of polygon `a` (`a[..na]`, one or two triangles) and polygon `b`
 /// (`b[..nb]`). `na` and `nb` are 1 (a triangle) or 2 (a quad `(v0,v1,v2,v3)` given as
@@ -268,17 +281,11 @@ unsafe fn band_triangles_avx2(a: &[P3; 3], b: &[P3; 3]) -> ContactGeometry {
     band_triangles(a, b)
 }
 
-/// The lanes of one batch of [`many_avx2`]: `a[l]`, `b[l]` for lane `l < n` (the others
-/// repeat lane 0), whose answer goes to `out[at[l]]`.
+/// The lanes of one batch of [`many_avx2`]: `a`, `b` lane `l` for lane `l < n` (the
+/// others repeat lane 0), whose answer goes to `out[at[l]]`.
 #[cfg(target_arch = "x86_64")]
-type Flush = unsafe fn(
-    &[[P3; 3]; four::LANES],
-    &[[P3; 3]; four::LANES],
-    &[usize; four::LANES],
-    usize,
-    bool,
-    &mut [ContactGeometry],
-);
+type Flush =
+    unsafe fn(&TriLanes, &TriLanes, &[usize; four::LANES], usize, bool, &mut [ContactGeometry]);
 
 /// [`contact_geometry_many`] on a CPU with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
@@ -304,15 +311,17 @@ unsafe fn many_avx2<P: PolygonPairs>(
     } else {
         flush_avx2
     };
-    // Lane `l`'s triangles and the pair they are; a quad's second triangles.
-    let mut a = [[[0.0; 3]; 3]; N];
-    let mut b = [[[0.0; 3]; 3]; N];
+    // The batch's triangles, lane by lane, and the pair each lane is.
+    let (mut a, mut b) = (TriLanes::ZERO, TriLanes::ZERO);
     let mut at = [0; N];
     let mut n = 0;
-    let (mut a1, mut b1) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
+    // The pair being read (a quad's second triangles in `a1`, `b1`).
+    let ([mut a0, mut a1], [mut b0, mut b1]) = ([[[0.0; 3]; 3]; 2], [[[0.0; 3]; 3]; 2]);
     for i in 0..out.len() {
-        let (na, nb) = fetch.fetch(i, [&mut a[n], &mut a1], [&mut b[n], &mut b1])?;
+        let (na, nb) = fetch.fetch(i, [&mut a0, &mut a1], [&mut b0, &mut b1])?;
         if na == 1 && nb == 1 {
+            a.set(n, &a0);
+            b.set(n, &b0);
             at[n] = i;
             n += 1;
             if n == N {
@@ -323,13 +332,15 @@ unsafe fn many_avx2<P: PolygonPairs>(
             }
         } else {
             // SAFETY: this function runs only on a CPU with AVX2 and FMA.
-            out[i] = unsafe { contact_geometry_avx2(&[a[n], a1], na, &[b[n], b1], nb) };
+            out[i] = unsafe { contact_geometry_avx2(&[a0, a1], na, &[b0, b1], nb) };
         }
     }
     if n > 0 {
         // The unused lanes repeat the first (their answers are dropped).
+        let (a0, b0) = (a.get(0), b.get(0));
         for l in n..N {
-            (a[l], b[l]) = (a[0], b[0]);
+            a.set(l, &a0);
+            b.set(l, &b0);
         }
         // SAFETY: as above.
         unsafe { flush(&a, &b, &at, n, known, out) };
@@ -341,8 +352,8 @@ unsafe fn many_avx2<P: PolygonPairs>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn flush_avx2(
-    a: &[[P3; 3]; four::LANES],
-    b: &[[P3; 3]; four::LANES],
+    a: &TriLanes,
+    b: &TriLanes,
     at: &[usize; four::LANES],
     n: usize,
     known: bool,
@@ -356,8 +367,8 @@ unsafe fn flush_avx2(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
 unsafe fn flush_avx512(
-    a: &[[P3; 3]; four::LANES],
-    b: &[[P3; 3]; four::LANES],
+    a: &TriLanes,
+    b: &TriLanes,
     at: &[usize; four::LANES],
     n: usize,
     known: bool,
@@ -371,45 +382,52 @@ unsafe fn flush_avx512(
 /// leaves one by one.
 ///
 /// # Safety
-/// The CPU has AVX2 and FMA; the caller is compiled for them.
+/// The CPU has AVX2 and FMA; the caller is compiled for them; `at[l]` is in `out` for
+/// `l < n`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn flush(
-    a: &[[P3; 3]; four::LANES],
-    b: &[[P3; 3]; four::LANES],
+    a: &TriLanes,
+    b: &TriLanes,
     at: &[usize; four::LANES],
     n: usize,
     known: bool,
     out: &mut [ContactGeometry],
 ) {
+    // SAFETY: the caller's promise.
+    let (ta, tb) = unsafe { (a.load(), b.load()) };
     // The lanes that intersect: all when known, else those the exact test's lanes
     // certify.
     let (crossing, apart) = if known {
         (u32::MAX, 0)
     } else {
         // SAFETY: the caller's promise.
-        let (decided, meets) = unsafe { super::tritri::four::intersect(a, b) };
+        let (decided, meets) = unsafe { super::tritri::four::intersect_loaded(&ta, &tb) };
         (decided & meets, decided & !meets)
     };
     // No crossing lane (a batch of band pairs): no geometry kernel.
-    let mut found = four::Found::NONE;
-    if crossing & ((1 << n) - 1) != 0 {
+    let lanes = (1 << n) - 1;
+    let answered = if crossing & lanes != 0 {
         // SAFETY: the caller's promise.
-        unsafe { four::crossing(a, b, &mut found) };
-    }
+        unsafe { four::crossing(&ta, &tb, crossing & lanes, at, out) }
+    } else {
+        0
+    };
     for l in 0..n {
+        if answered & crossing & (1 << l) != 0 {
+            continue;
+        }
         let g = &mut out[at[l]];
-        if found.ok & crossing & (1 << l) != 0 {
-            found.write(l, g);
-        } else if apart & (1 << l) != 0 {
+        let (ta, tb) = (a.get(l), b.get(l));
+        if apart & (1 << l) != 0 {
             // Decided apart: what `contact_geometry` does once its own exact test has
             // found the triangles apart (the only way it answers a pair that does not
             // intersect), without that test.
             // SAFETY: the caller's promise.
-            *g = unsafe { band_triangles_avx2(&a[l], &b[l]) };
+            *g = unsafe { band_triangles_avx2(&ta, &tb) };
         } else {
             // SAFETY: the caller's promise.
-            *g = unsafe { contact_geometry_avx2(&[a[l]; 2], 1, &[b[l]; 2], 1) };
+            *g = unsafe { contact_geometry_avx2(&[ta; 2], 1, &[tb; 2], 1) };
         }
     }
 }
@@ -3393,27 +3411,34 @@ mod tests {
                 .collect();
             let (mut fast, mut all) = (0, 0);
             for chunk in tris.chunks_exact(four::LANES) {
-                let a = std::array::from_fn(|l| chunk[l].0);
-                let b = std::array::from_fn(|l| chunk[l].1);
-                let mut found = four::Found::NONE;
-                // SAFETY: the CPU has AVX2 and FMA (checked above).
-                unsafe { four::crossing(&a, &b, &mut found) };
-                for l in 0..four::LANES {
+                let (mut a, mut b) = (TriLanes::ZERO, TriLanes::ZERO);
+                for (l, (t, u)) in chunk.iter().enumerate() {
+                    a.set(l, t);
+                    b.set(l, u);
+                }
+                // (Every field overwritten where answered: none of these survives.)
+                let unset = ContactGeometry {
+                    point_a: [f64::NAN; 3],
+                    point_b: [f64::NAN; 3],
+                    normal: [f64::NAN; 3],
+                    depth: f64::NAN,
+                    intersecting: false,
+                    coplanar: true,
+                };
+                let mut out = [unset; four::LANES];
+                // SAFETY: the CPU has AVX2 and FMA (checked above); `at` is in `out`.
+                let ok = unsafe {
+                    let (ta, tb) = (a.load(), b.load());
+                    four::crossing(&ta, &tb, 0b1111, &[0, 1, 2, 3], &mut out)
+                };
+                for (l, (t, u)) in chunk.iter().enumerate() {
                     all += 1;
-                    if found.ok & (1 << l) != 0 {
+                    if ok & (1 << l) != 0 {
                         fast += 1;
-                        let want = contact_geometry(&[a[l]; 2], 1, &[b[l]; 2], 1);
-                        // (Every field overwritten: none of these survives.)
-                        let mut g = ContactGeometry {
-                            point_a: [f64::NAN; 3],
-                            point_b: [f64::NAN; 3],
-                            normal: [f64::NAN; 3],
-                            depth: f64::NAN,
-                            intersecting: false,
-                            coplanar: true,
-                        };
-                        found.write(l, &mut g);
-                        assert_eq!(bits(&g), bits(&want), "{:?} {:?}", a[l], b[l]);
+                        let want = contact_geometry(&[*t; 2], 1, &[*u; 2], 1);
+                        assert_eq!(bits(&out[l]), bits(&want), "{t:?} {u:?}");
+                    } else {
+                        assert!(out[l].depth.is_nan(), "lane {l} not answered but written");
                     }
                 }
             }

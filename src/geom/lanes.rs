@@ -52,12 +52,14 @@ impl F {
         unsafe { F::splat(x) }
     }
 
+    /// Stores the four lanes at `p`.
+    ///
+    /// # Safety
+    /// `p` is valid for writing four `f64`.
     #[inline(always)]
-    pub(crate) fn get(&self) -> [f64; 4] {
-        let mut r = [0.0; 4];
-        // SAFETY: the invariant; `r` holds four f64.
-        unsafe { _mm256_storeu_pd(r.as_mut_ptr(), self.0) };
-        r
+    pub(crate) unsafe fn store(&self, p: *mut f64) {
+        // SAFETY: the caller's promise; the invariant.
+        unsafe { _mm256_storeu_pd(p, self.0) }
     }
 
     #[inline(always)]
@@ -299,6 +301,107 @@ impl W {
     #[inline(always)]
     pub(crate) fn amax(&self) -> F {
         self.x.abs().max(self.y.abs()).max(self.z.abs())
+    }
+}
+
+/// Four triangles stored lane by lane (vertex, coordinate, lane): what a kernel loads as
+/// [`W`]s with one aligned load per coordinate. Filled one triangle at a time by whoever
+/// gathers the batch (each coordinate stored once, where the kernel reads it), rather than
+/// as `[[P3; 3]; 4]` copied into lanes through the stack.
+#[derive(Clone, Copy)]
+#[repr(C, align(32))]
+pub(crate) struct TriLanes([[[f64; LANES]; 3]; 3]);
+
+impl TriLanes {
+    pub(crate) const ZERO: TriLanes = TriLanes([[[0.0; LANES]; 3]; 3]);
+
+    /// Lane `l`'s triangle becomes `t`.
+    #[inline(always)]
+    pub(crate) fn set(&mut self, l: usize, t: &[P3; 3]) {
+        for (k, v) in t.iter().enumerate() {
+            for (m, x) in v.iter().enumerate() {
+                self.0[k][m][l] = *x;
+            }
+        }
+    }
+
+    /// Lane `l`'s triangle.
+    #[inline(always)]
+    pub(crate) fn get(&self, l: usize) -> [P3; 3] {
+        [0, 1, 2].map(|k| [self.0[k][0][l], self.0[k][1][l], self.0[k][2][l]])
+    }
+
+    /// The lanes as vectors.
+    ///
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    pub(crate) unsafe fn load(&self) -> [W; 3] {
+        // (No closures: see the module's note.)
+        // SAFETY: the caller's promise.
+        unsafe { [self.vertex(0), self.vertex(1), self.vertex(2)] }
+    }
+
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    unsafe fn vertex(&self, k: usize) -> W {
+        let v = &self.0[k];
+        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (the
+        // type's alignment, rows at multiples of 32 bytes).
+        unsafe {
+            W {
+                x: F(_mm256_load_pd(v[0].as_ptr())),
+                y: F(_mm256_load_pd(v[1].as_ptr())),
+                z: F(_mm256_load_pd(v[2].as_ptr())),
+            }
+        }
+    }
+}
+
+/// Four rows of four lanes, transposed: element `l` of the result is lane `l`'s four
+/// values (row 0's first).
+#[inline(always)]
+pub(crate) fn transpose(r: [F; 4]) -> [F; 4] {
+    // SAFETY: the invariant.
+    unsafe {
+        let t0 = _mm256_unpacklo_pd(r[0].0, r[1].0);
+        let t1 = _mm256_unpackhi_pd(r[0].0, r[1].0);
+        let t2 = _mm256_unpacklo_pd(r[2].0, r[3].0);
+        let t3 = _mm256_unpackhi_pd(r[2].0, r[3].0);
+        [
+            F(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+            F(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+            F(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+            F(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+        ]
+    }
+}
+
+/// Stores two `f64` at `p`.
+///
+/// # Safety
+/// `p` is valid for writing two `f64`; the CPU has AVX2.
+#[inline(always)]
+pub(crate) unsafe fn store2(p: *mut f64, v: __m128d) {
+    // SAFETY: the caller's promise.
+    unsafe { _mm_storeu_pd(p, v) }
+}
+
+/// Two rows of four lanes, transposed: element `l` of the result is lane `l`'s two values
+/// (row 0's first).
+#[inline(always)]
+pub(crate) fn transpose2(r0: F, r1: F) -> [__m128d; 4] {
+    // SAFETY: the invariant.
+    unsafe {
+        let lo = _mm256_unpacklo_pd(r0.0, r1.0);
+        let hi = _mm256_unpackhi_pd(r0.0, r1.0);
+        [
+            _mm256_castpd256_pd128(lo),
+            _mm256_castpd256_pd128(hi),
+            _mm256_extractf128_pd::<1>(lo),
+            _mm256_extractf128_pd::<1>(hi),
+        ]
     }
 }
 

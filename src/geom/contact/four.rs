@@ -22,8 +22,7 @@
 //! Written with the AVX2 lanes of `geom/lanes.rs` (no closures: see there why).
 
 use super::{ContactGeometry, FACE_SLACK, REFINE};
-use crate::geom::lanes::{load, sel3, sel3w, Plane, F, M, W};
-use crate::geom::predicates::P3;
+use crate::geom::lanes::{sel3, sel3w, store2, transpose, transpose2, Plane, F, M, W};
 
 /// Pairs per pass.
 pub(super) use crate::geom::lanes::LANES;
@@ -316,59 +315,31 @@ fn fine(x: &[F; 3]) -> M {
     nonzero.and(u0.xor(u1).or(u1.xor(u2)))
 }
 
-/// The answers of [`crossing`], lane by lane (the fields of `ContactGeometry` for
-/// intersecting, non-coplanar pairs), read straight into the caller's output: an array of
-/// `ContactGeometry` values made here and copied out would be stored field by field and
-/// reloaded whole, which the CPU cannot forward (the copy cost an eighth of the kernel).
-pub(super) struct Found {
-    /// Lane `l` is answered when bit `l` is set.
-    pub ok: u32,
-    pub p: [[f64; LANES]; 3],
-    pub q: [[f64; LANES]; 3],
-    pub n: [[f64; LANES]; 3],
-    pub depth: [f64; LANES],
-}
-
-impl Found {
-    /// Nothing answered.
-    pub const NONE: Found = Found {
-        ok: 0,
-        p: [[0.0; LANES]; 3],
-        q: [[0.0; LANES]; 3],
-        n: [[0.0; LANES]; 3],
-        depth: [0.0; LANES],
-    };
-
-    /// Lane `l`'s geometry (answered lanes only), written field by field into `g`.
-    #[inline(always)]
-    pub fn write(&self, l: usize, g: &mut ContactGeometry) {
-        g.point_a = [self.p[0][l], self.p[1][l], self.p[2][l]];
-        g.point_b = [self.q[0][l], self.q[1][l], self.q[2][l]];
-        g.normal = [self.n[0][l], self.n[1][l], self.n[2][l]];
-        g.depth = self.depth[l];
-        g.intersecting = true;
-        g.coplanar = false;
-    }
-}
-
-/// Geometry of four triangle pairs `(a[l], b[l])`, each known to intersect (exactly),
-/// into `out`: lane `l` is the scalar fast path's answer where bit `l` of `out.ok` is
-/// set; the other lanes are left to [`super::contact_geometry`].
+/// Geometry of four triangle pairs `(ta, tb)` (lane `l` the pair `l`), each known to
+/// intersect (exactly). Returns the lanes answered here (bit `l` for lane `l`: the scalar
+/// fast path's answer), and writes those among `want` into `out[at[l]]`; the other lanes
+/// are left to [`super::contact_geometry`].
 ///
 /// # Safety
-/// The CPU has AVX2 and FMA (the caller is compiled for them, or checked).
+/// The CPU has AVX2 and FMA (the caller is compiled for them, or checked); `at[l]` is in
+/// `out` for every lane of `want`.
 #[inline(always)]
-pub(super) unsafe fn crossing(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES], out: &mut Found) {
-    // SAFETY: the caller's promise (every other value is made from these).
-    let (ta, tb, zero) = unsafe { (load(a), load(b), F::splat(0.0)) };
-    let fa = Face::of(&ta);
-    let (db, scale_b, ok_b) = fa.sides(&tb);
-    let fb = Face::of(&tb);
-    let (da, scale_a, ok_a) = fb.sides(&ta);
+pub(super) unsafe fn crossing(
+    ta: &[W; 3],
+    tb: &[W; 3],
+    want: u32,
+    at: &[usize; LANES],
+    out: &mut [ContactGeometry],
+) -> u32 {
+    let zero = ta[0].x.like(0.0);
+    let fa = Face::of(ta);
+    let (db, scale_b, ok_b) = fa.sides(tb);
+    let fb = Face::of(tb);
+    let (da, scale_a, ok_a) = fb.sides(ta);
     // The pair's magnitude, to within its extent (as the scalar path).
     let mag = ta[0].amax().max(tb[0].amax());
-    let (a0, a1) = cut(&ta, &da, &scale_a, mag, &fb);
-    let (b0, b1) = cut(&tb, &db, &scale_b, mag, &fa);
+    let (a0, a1) = cut(ta, &da, &scale_a, mag, &fb);
+    let (b0, b1) = cut(tb, &db, &scale_b, mag, &fa);
     // The overlap of the two cuts on the planes' common line (the scalar `transverse`).
     let line = fa.n.cross(&fb.n);
     let (ka0, ka1, kb0, kb1) = (line.dot(&a0), line.dot(&a1), line.dot(&b0), line.dot(&b1));
@@ -392,13 +363,13 @@ pub(super) unsafe fn crossing(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES], out: &
     // The separating-axis search (the scalar `triangles_sat`): edges `e_k = v_{k+1} -
     // v_k`; `a3_j = -eb_j . na`, `b3_i = ea_i . nb`; the edge pair (i, j) is a facet of
     // the Minkowski difference when b3_i and a3_j differ in sign.
-    let (ea, eb) = (edges(&ta), edges(&tb));
+    let (ea, eb) = (edges(ta), edges(tb));
     let a3 = [-eb[0].dot(&fa.n), -eb[1].dot(&fa.n), -eb[2].dot(&fa.n)];
     let b3 = [ea[0].dot(&fb.n), ea[1].dot(&fb.n), ea[2].dot(&fb.n)];
     let (fine_a, fine_b) = (fine(&a3), fine(&b3));
     // Counted from the lone signs, `ib` of b3 and `ja` of a3 (as the scalar path does),
     // the facets are the same relative pairs in every lane: four or five of them.
-    let sides = Sat::new(&ta, &tb, &ea, &eb, &a3, &b3);
+    let sides = Sat::new(ta, tb, &ea, &eb, &a3, &b3);
 
     // The two faces: on na, a at 0 and b at db; on nb, b at 0 and a at da.
     let mut best = Best {
@@ -446,7 +417,7 @@ pub(super) unsafe fn crossing(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES], out: &
     // within the f32 range: the sum overflows only where a term is not finite).
     let sum = p.x + p.y + p.z + q.x + q.y + q.z + normal.x + normal.y + normal.z + depth;
     let finite = sum.abs().lt(zero.like(f64::INFINITY));
-    out.ok = ok_a
+    let ok = ok_a
         .and(ok_b)
         .and(apart.not())
         .and(fine_a)
@@ -456,9 +427,27 @@ pub(super) unsafe fn crossing(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES], out: &
         .and((n2 - one).abs().lt(zero.like(1e-12)))
         .and(finite)
         .bits();
-    // (`+ 0`: the scalar path's `finish` adds its origin, 0, which makes -0 into +0.)
-    out.p = [(p.x + zero).get(), (p.y + zero).get(), (p.z + zero).get()];
-    out.q = [(q.x + zero).get(), (q.y + zero).get(), (q.z + zero).get()];
-    out.n = [normal.x.get(), normal.y.get(), normal.z.get()];
-    out.depth = depth.get();
+    // Each answered lane's ten values, transposed into the lane's entry (`ContactGeometry`
+    // is `repr(C)`: point_a, point_b, normal, depth, contiguous), four at a time. (`+ 0`:
+    // the scalar path's `finish` adds its origin, 0, which makes -0 into +0.)
+    let first = transpose([p.x + zero, p.y + zero, p.z + zero, q.x + zero]);
+    let second = transpose([q.y + zero, q.z + zero, normal.x, normal.y]);
+    let last = transpose2(normal.z, depth);
+    let write = ok & want;
+    for l in 0..LANES {
+        if write & (1 << l) != 0 {
+            let g: *mut ContactGeometry = &mut out[at[l]];
+            // SAFETY: `g` is a valid entry; its first ten fields are f64 in order (checked
+            // at compile time next to the type).
+            unsafe {
+                let v = g.cast::<f64>();
+                first[l].store(v);
+                second[l].store(v.add(4));
+                store2(v.add(8), last[l]);
+                (*g).intersecting = true;
+                (*g).coplanar = false;
+            }
+        }
+    }
+    ok
 }

@@ -64,11 +64,27 @@ fn lonely(p: [M; 3]) -> (M, M) {
 pub(crate) unsafe fn intersect(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES]) -> (u32, u32) {
     // SAFETY: the caller's promise.
     let (ta, tb) = unsafe { (load(a), load(b)) };
+    intersect_lanes(&ta, &tb)
+}
+
+/// [`intersect`] of triangles already in lanes (lane `l`: pair `l`), out of line.
+///
+/// # Safety
+/// The CPU has AVX2 and FMA.
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+pub(crate) unsafe fn intersect_loaded(ta: &[W; 3], tb: &[W; 3]) -> (u32, u32) {
+    intersect_lanes(ta, tb)
+}
+
+/// [`intersect`]'s body.
+#[inline(always)]
+fn intersect_lanes(ta: &[W; 3], tb: &[W; 3]) -> (u32, u32) {
     const ALL: u32 = (1 << LANES) - 1;
     // Signs of orient3d(a, b_k) and orient3d(b, a_k): (negative, positive) where certain.
     // Most box-overlapping pairs of two bodies are apart, most often with one triangle on
     // one side of the other's plane: a batch whose four pairs all are returns at once.
-    let pa = Plane::of(&ta);
+    let pa = Plane::of(ta);
     let (bn0, bp0) = pa.certain_side(&tb[0]);
     let (bn1, bp1) = pa.certain_side(&tb[1]);
     let (bn2, bp2) = pa.certain_side(&tb[2]);
@@ -76,7 +92,7 @@ pub(crate) unsafe fn intersect(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES]) -> (u
     if apart_b.bits() == ALL {
         return (ALL, 0);
     }
-    let pb = Plane::of(&tb);
+    let pb = Plane::of(tb);
     let (an0, ap0) = pb.certain_side(&ta[0]);
     let (an1, ap1) = pb.certain_side(&ta[1]);
     let (an2, ap2) = pb.certain_side(&ta[2]);
