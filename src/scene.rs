@@ -1,6 +1,7 @@
 //! A scene: meshes by id, one backend, and the last query's contacts.
 
 use std::collections::BTreeMap;
+use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use std::sync::Mutex;
@@ -8,7 +9,7 @@ use std::time::Instant;
 
 use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
-use crate::geom::contact::{contact_geometry_many, ContactGeometry, PolygonPairs};
+use crate::geom::contact::{contact_geometry_into, ContactGeometry, PolygonPairs};
 use crate::geom::P3;
 use crate::mesh::{Mesh, Positions};
 use crate::query::all::{self as whole, AllStats, BroadPhase, SceneMesh, SelfPrep, SelfScratch};
@@ -718,9 +719,10 @@ impl Scene {
             return Ok(&self.geometry);
         }
         // Each mesh once per run of pairs (the pairs of an answer come from a few meshes,
-        // in runs).
+        // in runs); none when no mesh reads a GL buffer.
         let mut checked = [None; 2];
-        for k in 0..n {
+        let scan = if self.selector.any_gl_bound() { n } else { 0 };
+        for k in 0..scan {
             let (a, _, b, _) = item(last, &self.contacts, &self.pairs, k);
             for (side, id) in [a, b].into_iter().enumerate() {
                 if checked[side] == Some(id) {
@@ -744,14 +746,15 @@ impl Scene {
         let mut out = std::mem::take(&mut self.geometry);
         out.clear();
         try_reserve(&mut out, n, "the contact geometry")?;
-        out.resize(n, UNSET);
+        // Written once, by the fill below, in the vector's spare capacity.
+        let spare = &mut out.spare_capacity_mut()[..n];
         // Four triangle pairs at a time. At epsilon 0 every pair of the answer intersects
         // (the exact test decided it, on every backend), so the geometry skips that test.
         let known = self.config.epsilon == 0.0;
         let (meshes, contacts, pairs) = (&self.meshes, &self.contacts, &self.pairs);
         // Entries `out` from pair `base` on.
-        let fill = |out: &mut [ContactGeometry], base: usize| -> Result<()> {
-            contact_geometry_many(
+        let fill = |out: &mut [MaybeUninit<ContactGeometry>], base: usize| -> Result<()> {
+            contact_geometry_into(
                 out,
                 known,
                 AnswerPairs {
@@ -767,12 +770,16 @@ impl Scene {
         match &self.pool {
             Some(pool) if n > PAR_GEOMETRY => pool.install(|| {
                 use rayon::prelude::*;
-                out.par_chunks_mut(GEOMETRY_CHUNK)
+                spare
+                    .par_chunks_mut(GEOMETRY_CHUNK)
                     .enumerate()
                     .try_for_each(|(c, chunk)| fill(chunk, c * GEOMETRY_CHUNK))
             })?,
-            _ => fill(&mut out, 0)?,
+            _ => fill(spare, 0)?,
         }
+        // SAFETY: the fill succeeded, so it initialized every one of the first `n` entries
+        // (capacity reserved above).
+        unsafe { out.set_len(n) };
         self.geometry = out;
         Ok(&self.geometry)
     }
@@ -794,17 +801,7 @@ impl Scene {
 const PAR_GEOMETRY: usize = 256;
 const GEOMETRY_CHUNK: usize = 64;
 
-/// A placeholder, overwritten before anyone sees it.
-const UNSET: ContactGeometry = ContactGeometry {
-    point_a: [0.0; 3],
-    point_b: [0.0; 3],
-    normal: [0.0, 0.0, 1.0],
-    depth: 0.0,
-    intersecting: false,
-    coplanar: false,
-};
-
-/// The pairs of the last answer from `base` on, as [`contact_geometry_many`] reads them.
+/// The pairs of the last answer from `base` on, as [`contact_geometry_into`] reads them.
 struct AnswerPairs<'m> {
     last: LastQuery,
     contacts: &'m [Contact],

@@ -295,6 +295,16 @@ fn a_failed_query_keeps_the_last_contacts() {
     let good: Vec<Contact> = s.query(blade).unwrap().to_vec();
     assert!(!good.is_empty(), "the scene should collide");
     assert_eq!(s.contacts(), &good[..]);
+    // Contact geometry needs the organ's positions on the CPU: refused, naming the mesh,
+    // and the answer stays.
+    let e = s.contact_geometry().unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported, "{}", e.message);
+    assert!(
+        e.message.contains(&format!("mesh {organ}")) && e.message.contains("GL buffer"),
+        "{}",
+        e.message
+    );
+    assert_eq!(s.contacts(), &good[..]);
     let mut bad = frame[1].clone();
     bad[17][1] = f32::NAN;
     fill(&g, host, &bad);

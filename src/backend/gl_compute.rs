@@ -1146,6 +1146,10 @@ impl Selector for GlComputeSelector {
         self.st.bound.contains_key(&id)
     }
 
+    fn any_gl_bound(&self) -> bool {
+        !self.st.bound.is_empty()
+    }
+
     fn bind_gl_buffer(
         &mut self,
         id: u32,

@@ -313,6 +313,11 @@ pub trait Selector: Send {
         false
     }
 
+    /// Some mesh reads its positions from a host GL buffer.
+    fn any_gl_bound(&self) -> bool {
+        false
+    }
+
     /// Deletes the backend's GL objects (the scene's context must be current). Called once,
     /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
     fn release(&mut self) {}

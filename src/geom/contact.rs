@@ -17,6 +17,8 @@
 //! [`contact_geometry_many`]), again bit for bit. See [`contact_geometry`] for the
 //! meaning of every output.
 
+use std::mem::MaybeUninit;
+
 use nalgebra::Vector3;
 
 #[cfg(target_arch = "x86_64")]
@@ -260,6 +262,21 @@ where
 pub fn contact_geometry_many<P: PolygonPairs>(
     out: &mut [ContactGeometry],
     known: bool,
+    fetch: P,
+) -> Result<(), P::Error> {
+    // SAFETY: `MaybeUninit<T>` has `T`'s layout, and only initialized values are written
+    // through the view.
+    let out =
+        unsafe { &mut *(out as *mut [ContactGeometry] as *mut [MaybeUninit<ContactGeometry>]) };
+    contact_geometry_into(out, known, fetch)
+}
+
+/// [`contact_geometry_many`] into entries not initialized yet (a vector's spare capacity:
+/// the scene's output is not written twice). When it returns `Ok`, every entry of `out`
+/// is initialized; after an error, some may not be.
+pub fn contact_geometry_into<P: PolygonPairs>(
+    out: &mut [MaybeUninit<ContactGeometry>],
+    known: bool,
     mut fetch: P,
 ) -> Result<(), P::Error> {
     #[cfg(target_arch = "x86_64")]
@@ -272,7 +289,7 @@ pub fn contact_geometry_many<P: PolygonPairs>(
     let ([mut a0, mut a1], [mut b0, mut b1]) = ([[[0.0; 3]; 3]; 2], [[[0.0; 3]; 3]; 2]);
     for (i, g) in out.iter_mut().enumerate() {
         let (na, nb) = fetch.fetch(i, [&mut a0, &mut a1], [&mut b0, &mut b1])?;
-        *g = contact_geometry(&[a0, a1], na, &[b0, b1], nb);
+        g.write(contact_geometry(&[a0, a1], na, &[b0, b1], nb));
     }
     Ok(())
 }
@@ -289,14 +306,20 @@ unsafe fn band_triangles_avx2(a: &[P3; 3], b: &[P3; 3]) -> ContactGeometry {
 /// The lanes of one batch of [`many_avx2`]: `a`, `b` lane `l` for lane `l < n` (the
 /// others repeat lane 0), whose answer goes to `out[at[l]]`.
 #[cfg(target_arch = "x86_64")]
-type Flush =
-    unsafe fn(&TriLanes, &TriLanes, &[usize; four::LANES], usize, bool, &mut [ContactGeometry]);
+type Flush = unsafe fn(
+    &TriLanes,
+    &TriLanes,
+    &[usize; four::LANES],
+    usize,
+    bool,
+    &mut [MaybeUninit<ContactGeometry>],
+);
 
 /// [`contact_geometry_many`] on a CPU with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn many_avx2<P: PolygonPairs>(
-    out: &mut [ContactGeometry],
+    out: &mut [MaybeUninit<ContactGeometry>],
     known: bool,
     fetch: &mut P,
 ) -> Result<(), P::Error> {
@@ -337,7 +360,7 @@ unsafe fn many_avx2<P: PolygonPairs>(
             }
         } else {
             // SAFETY: this function runs only on a CPU with AVX2 and FMA.
-            out[i] = unsafe { contact_geometry_avx2(&[a0, a1], na, &[b0, b1], nb) };
+            out[i].write(unsafe { contact_geometry_avx2(&[a0, a1], na, &[b0, b1], nb) });
         }
     }
     if n > 0 {
@@ -362,7 +385,7 @@ unsafe fn flush_avx2(
     at: &[usize; four::LANES],
     n: usize,
     known: bool,
-    out: &mut [ContactGeometry],
+    out: &mut [MaybeUninit<ContactGeometry>],
 ) {
     // SAFETY: the caller's promise.
     unsafe { flush(a, b, at, n, known, out) }
@@ -377,7 +400,7 @@ unsafe fn flush_avx512(
     at: &[usize; four::LANES],
     n: usize,
     known: bool,
-    out: &mut [ContactGeometry],
+    out: &mut [MaybeUninit<ContactGeometry>],
 ) {
     // SAFETY: the caller's promise.
     unsafe { flush(a, b, at, n, known, out) }
@@ -397,7 +420,7 @@ unsafe fn flush(
     at: &[usize; four::LANES],
     n: usize,
     known: bool,
-    out: &mut [ContactGeometry],
+    out: &mut [MaybeUninit<ContactGeometry>],
 ) {
     // SAFETY: the caller's promise.
     let (ta, tb) = unsafe { (a.load(), b.load()) };
@@ -429,10 +452,10 @@ unsafe fn flush(
             // found the triangles apart (the only way it answers a pair that does not
             // intersect), without that test.
             // SAFETY: the caller's promise.
-            *g = unsafe { band_triangles_avx2(&ta, &tb) };
+            g.write(unsafe { band_triangles_avx2(&ta, &tb) });
         } else {
             // SAFETY: the caller's promise.
-            *g = unsafe { contact_geometry_avx2(&[ta; 2], 1, &[tb; 2], 1) };
+            g.write(unsafe { contact_geometry_avx2(&[ta; 2], 1, &[tb; 2], 1) });
         }
     }
 }
@@ -3569,12 +3592,14 @@ mod tests {
                     intersecting: false,
                     coplanar: true,
                 };
-                let mut out = [unset; four::LANES];
+                let mut out = [MaybeUninit::new(unset); four::LANES];
                 // SAFETY: the CPU has AVX2 and FMA (checked above); `at` is in `out`.
                 let ok = unsafe {
                     let (ta, tb) = (a.load(), b.load());
                     four::crossing(&ta, &tb, 0b1111, &[0, 1, 2, 3], &mut out)
                 };
+                // SAFETY: every entry was initialized (and the kernel writes whole fields).
+                let out = out.map(|g| unsafe { g.assume_init() });
                 for (l, (t, u)) in chunk.iter().enumerate() {
                     all += 1;
                     if ok & (1 << l) != 0 {

@@ -269,6 +269,10 @@ impl Selector for CpuSelector {
             .is_some_and(|h| h.bound.contains_key(&id))
     }
 
+    fn any_gl_bound(&self) -> bool {
+        self.host.as_ref().is_some_and(|h| !h.bound.is_empty())
+    }
+
     fn mesh_updated(&mut self, id: u32) {
         if let Some(h) = self.host.as_deref_mut() {
             h.bound.remove(&id);

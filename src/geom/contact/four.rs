@@ -21,6 +21,8 @@
 //!
 //! Written with the AVX2 lanes of `geom/lanes.rs` (no closures: see there why).
 
+use std::mem::MaybeUninit;
+
 use super::{ContactGeometry, FACE_SLACK, REFINE};
 use crate::geom::lanes::{sel3, sel3w, store2, transpose, transpose2, Plane, F, M, W};
 
@@ -329,7 +331,7 @@ pub(super) unsafe fn crossing(
     tb: &[W; 3],
     want: u32,
     at: &[usize; LANES],
-    out: &mut [ContactGeometry],
+    out: &mut [MaybeUninit<ContactGeometry>],
 ) -> u32 {
     let zero = ta[0].x.like(0.0);
     let fa = Face::of(ta);
@@ -436,9 +438,10 @@ pub(super) unsafe fn crossing(
     let write = ok & want;
     for l in 0..LANES {
         if write & (1 << l) != 0 {
-            let g: *mut ContactGeometry = &mut out[at[l]];
-            // SAFETY: `g` is a valid entry; its first ten fields are f64 in order (checked
-            // at compile time next to the type).
+            let g: *mut ContactGeometry = out[at[l]].as_mut_ptr();
+            // SAFETY: `g` is an entry (perhaps not initialized: every field is written,
+            // none read); its first ten fields are f64 in order (checked at compile time
+            // next to the type).
             unsafe {
                 let v = g.cast::<f64>();
                 first[l].store(v);
