@@ -142,8 +142,9 @@ const _: () = {
 /// exact test; on the heavy case (about 700 crossing pairs) about 160 to 205 ns per pair,
 /// 17 to 20% of the query's time. Pairs known to intersect (a query's at epsilon 0) go
 /// four at a time through [`contact_geometry_many`] instead (what
-/// `Scene::contact_geometry` does): about 45 to 75 ns per pair, 9 to 12% of the query
-/// (`tests/contact_heavy.rs`, `bench-results/contact.md`).
+/// `Scene::contact_geometry` does): about 40 to 55 ns per pair, 8 to 9% of the query on the
+/// heavy case, 15% on an instrument's 95 pairs, 21 to 27% of the 2.4 us queries that find
+/// 8 to 10 (`tests/contact_heavy.rs`, `bench-results/contact.md`).
 pub fn contact_geometry(
     a: &[[P3; 3]; 2],
     na: usize,
