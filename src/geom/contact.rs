@@ -245,12 +245,9 @@ where
 }
 
 /// [`contact_geometry`] of many polygon pairs, entry `i` of `out` for pair `i`, whose
-/// triangles `fetch(i, [a0, a1], [b0, b1])` writes (the polygons' first triangles into
-/// `a0`, `b0`, a quad's second into `a1` or `b1`), returning `(na, nb)` as
-/// `contact_geometry` takes them (an error stops the call and is returned). The first
-/// triangles are written straight into their lanes: no copy of them is loaded whole
-/// before the stores behind it have landed (which stalls). `known`: every pair is known to intersect
-/// (decided by the exact test: the pairs of a query at epsilon 0). The answers are
+/// triangles `fetch` writes (see [`PolygonPairs`]; an error stops the call and is
+/// returned). `known`: every pair is known to intersect (decided by the exact test: the
+/// pairs of a query at epsilon 0). The answers are
 /// [`contact_geometry`]'s, bit for bit: triangle pairs are gathered four at a time and
 /// computed together by the fast path written over lanes (`four.rs`: the same operations
 /// on the same values, one AVX2 instruction for four pairs). When `known`, the exact test
