@@ -323,8 +323,10 @@ unsafe fn many_avx2<P: PolygonPairs>(
 ) -> Result<(), P::Error> {
     const N: usize = four::LANES;
     // The same kernel compiled for AVX-512 where the CPU has it: the same 256-bit
-    // operations (so the same answers), with 32 vector registers instead of 16, which
-    // spares the kernel most of its spills to the stack.
+    // arithmetic (so the same answers; only copies of whole entries may use 512-bit
+    // moves), with 32 vector registers instead of 16, which spares the kernel most of its
+    // spills to the stack. (AVX-512 target features need Rust 1.89: Cargo.toml's
+    // `rust-version`.)
     #[cfg(test)]
     let avx2_only = tests::AVX2_ONLY.with(|c| c.get());
     #[cfg(not(test))]
@@ -3445,6 +3447,86 @@ mod tests {
         );
         assert_within(&worst, 4.0);
         assert!(all > 5_000 && fast * 10 > all * 9, "{fast} of {all}");
+    }
+
+    /// `contact_geometry_into` writes every entry of memory it is given uninitialized (a
+    /// vector's spare capacity filled with a poison first): crossing, apart, quad, segment
+    /// and point pairs mixed, every batch remainder and the 64-pair chunks' sizes, known or
+    /// not, each kernel; every entry is then `contact_geometry`'s answer bit for bit. (From
+    /// a review of the lanes' unsafe writes.)
+    #[test]
+    fn every_entry_of_spare_capacity_is_written() {
+        let mut r = Rng(0xBEEF5);
+        let mut pairs: Vec<(Polygon, Polygon)> = Vec::new();
+        for i in 0..3000 {
+            let (o, sc) = FRAMES[i % FRAMES.len()];
+            let c = [o, -0.5 * o, 0.25 * o];
+            let (a, b) = crossing_pair(&mut r, &c, sc);
+            let (a, b) = match i % 6 {
+                0 => (Polygon::tri([a.t[0][0], a.t[0][0], a.t[0][1]]), b),
+                1 => (a, Polygon::tri([b.t[0][2], b.t[0][1], b.t[0][1]])),
+                2 => (a, b.moved(&[0.0, 0.0, 3.0 * sc])),
+                3 => {
+                    let t = a.t[0];
+                    (Polygon::quad([t[0], t[1], t[2], plus(&t[0], &r.v(sc))]), b)
+                }
+                4 => (Polygon::tri([a.t[0][0]; 3]), b),
+                _ => (a, b),
+            };
+            pairs.push((a, b));
+        }
+        let poison = ContactGeometry {
+            point_a: [f64::from_bits(0x7ff8_dead_beef_0001); 3],
+            point_b: [f64::NAN; 3],
+            normal: [f64::NAN; 3],
+            depth: f64::NAN,
+            intersecting: true,
+            coplanar: true,
+        };
+        let bits = |g: &ContactGeometry| {
+            let mut x: Vec<u64> = [g.point_a, g.point_b, g.normal]
+                .iter()
+                .flatten()
+                .map(|x| (x + 0.0).to_bits())
+                .collect();
+            x.extend([
+                (g.depth + 0.0).to_bits(),
+                g.intersecting as u64,
+                g.coplanar as u64,
+            ]);
+            x
+        };
+        for known in [false, true] {
+            for len in [1usize, 2, 3, 4, 5, 7, 9, 63, 64, 65, 257, 3000] {
+                for avx2 in [false, true] {
+                    let mut v = vec![poison; len];
+                    v.clear();
+                    AVX2_ONLY.with(|c| c.set(avx2));
+                    let spare = &mut v.spare_capacity_mut()[..len];
+                    contact_geometry_into(
+                        spare,
+                        known,
+                        polygon_pairs(|i, a, b| {
+                            put(a, &pairs[i].0.t);
+                            put(b, &pairs[i].1.t);
+                            Ok::<_, ()>((pairs[i].0.n, pairs[i].1.n))
+                        }),
+                    )
+                    .unwrap();
+                    AVX2_ONLY.with(|c| c.set(false));
+                    // SAFETY: the call returned Ok, so it wrote the first `len` entries.
+                    unsafe { v.set_len(len) };
+                    for (k, g) in v.iter().enumerate() {
+                        let want = geometry(&pairs[k].0, &pairs[k].1);
+                        // (`known` with a pair apart is a caller's error: not compared.)
+                        if known && !want.intersecting {
+                            continue;
+                        }
+                        assert_eq!(bits(g), bits(&want), "known {known} len {len} pair {k}");
+                    }
+                }
+            }
+        }
     }
 
     /// Pairs known to intersect, four at a time (`four.rs`), answer as `contact_geometry`
