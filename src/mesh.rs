@@ -292,7 +292,7 @@ impl Mesh {
         if indices.is_empty() {
             return Err(Error::invalid("polygon_count is 0"));
         }
-        if indices.len() % k != 0 {
+        if !indices.len().is_multiple_of(k) {
             return Err(Error::invalid(
                 "index count is not a multiple of vertices_per_polygon",
             ));

@@ -315,7 +315,11 @@ fn mesh_creation_rejects_bad_descriptions_and_changes_nothing() {
     let raw: Vec<u8> = vec![0; 64];
     let odd = raw
         .as_ptr()
-        .wrapping_add(if raw.as_ptr() as usize % 4 == 0 { 2 } else { 1 });
+        .wrapping_add(if (raw.as_ptr() as usize).is_multiple_of(4) {
+            2
+        } else {
+            1
+        });
     create!(
         "misaligned positions",
         GlcolMeshDesc {
@@ -540,7 +544,11 @@ fn updates_are_rejected_whole() {
     let raw = [0u8; 64];
     let odd = raw
         .as_ptr()
-        .wrapping_add(if raw.as_ptr() as usize % 4 == 0 { 2 } else { 1 });
+        .wrapping_add(if (raw.as_ptr() as usize).is_multiple_of(4) {
+            2
+        } else {
+            1
+        });
     f.expect(
         "misaligned",
         up(a, odd.cast(), 0, 1, 0),

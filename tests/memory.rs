@@ -93,7 +93,11 @@ fn grid(n: usize, k: usize, z: f32) -> TestMesh {
 fn ffi_cycle(meshes: &[TestMesh]) -> usize {
     let mut s = FfiScene::new(
         GlcolBackend::Cpu,
-        if meshes.len() % 2 == 0 { 0.0 } else { 0.01 },
+        if meshes.len().is_multiple_of(2) {
+            0.0
+        } else {
+            0.01
+        },
         8,
     );
     let ids: Vec<u32> = meshes.iter().map(|m| s.add(m)).collect();

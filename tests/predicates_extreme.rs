@@ -118,7 +118,11 @@ fn plane_sides_are_right_whenever_certain() {
                     for c in v.iter_mut() {
                         let small = f32::from_bits((r.u() % 0x0100_0000) as u32) as f64
                             * if r.u() & 1 == 0 { 1.0 } else { -1.0 };
-                        *c = if r.u() % 4 == 0 { f(r.scaled()) } else { small };
+                        *c = if r.u().is_multiple_of(4) {
+                            f(r.scaled())
+                        } else {
+                            small
+                        };
                     }
                 }
             }

@@ -199,7 +199,7 @@ unsafe fn positions<'a>(p: *const f32, count: usize, stride: usize) -> Result<Po
     if count == 0 {
         return Err(invalid("vertex_count is 0"));
     }
-    if (p as usize) % std::mem::align_of::<f32>() != 0 {
+    if !(p as usize).is_multiple_of(std::mem::align_of::<f32>()) {
         return Err(invalid("positions is not 4-byte aligned"));
     }
     let s = Positions::stride_or_packed(stride);
@@ -514,7 +514,7 @@ pub unsafe extern "C" fn glcol_mesh_create(
         // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
         // `position_stride` apart.
         let pos = unsafe { positions(d.positions, d.vertex_count, d.position_stride) }?;
-        if (d.indices as usize) % std::mem::align_of::<u32>() != 0 {
+        if !(d.indices as usize).is_multiple_of(std::mem::align_of::<u32>()) {
             return Err(invalid("indices is not 4-byte aligned"));
         }
         let n = d

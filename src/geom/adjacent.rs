@@ -1588,7 +1588,7 @@ mod tests {
     impl Tally {
         fn check(&mut self, c: &Case) {
             let want = c.oracle();
-            let got = c.predicate(self.cases % 8 == 0);
+            let got = c.predicate(self.cases.is_multiple_of(8));
             self.cases += 1;
             self.meets += usize::from(want);
             if got != want && self.bad.len() < 5 {

@@ -3195,13 +3195,13 @@ mod tests {
             let poly = |r: &mut Rng| {
                 let mut v = [pt(r), pt(r), pt(r), pt(r)];
                 // Often repeat vertices: segments and points.
-                if r.next() % 4 == 0 {
+                if r.next().is_multiple_of(4) {
                     v[1] = v[0];
                 }
-                if r.next() % 6 == 0 {
+                if r.next().is_multiple_of(6) {
                     v[2] = v[(r.next() % 2) as usize];
                 }
-                if r.next() % 2 == 0 {
+                if r.next().is_multiple_of(2) {
                     Polygon::tri([v[0], v[1], v[2]])
                 } else {
                     Polygon::quad(v)
@@ -3706,7 +3706,7 @@ mod tests {
         for i in 0..20_000 {
             let scale = [1e-38, 1e-30, 1e-10, 1.0, 1e10, 1e30, 3e38][i % 7];
             let mut v = || {
-                let x = if r.next() % 8 == 0 {
+                let x = if r.next().is_multiple_of(8) {
                     f32::from_bits(r.next() as u32)
                 } else {
                     (r.f() * scale) as f32

@@ -251,7 +251,7 @@ impl HostBuffer {
     /// of 4, stride >= 12, sizes that fit 64 bits.
     pub fn new(buffer: u32, offset: usize, stride: usize, vertices: usize) -> Result<HostBuffer> {
         let stride = if stride == 0 { 12 } else { stride };
-        if stride < 12 || stride % 4 != 0 || offset % 4 != 0 {
+        if stride < 12 || stride % 4 != 0 || !offset.is_multiple_of(4) {
             return Err(Error::invalid(format!(
                 "offset {offset} and stride {stride} must be multiples of 4, stride 0 or >= 12"
             )));
