@@ -3992,6 +3992,26 @@ mod tests {
                 pairs.len()
             );
         }
+        // What a band pair of a query within a band gets once the exact lanes have found
+        // it apart: `band_triangles` alone (its AVX2 build, as the scene calls it).
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            let band = &sets[1].1;
+            let mut best = f64::INFINITY;
+            for _ in 0..50 {
+                let t0 = Instant::now();
+                for _ in 0..10 {
+                    for (a, b) in band {
+                        // SAFETY: the CPU has AVX2 and FMA (checked above).
+                        black_box(unsafe {
+                            band_triangles_avx2(black_box(&a.t[0]), black_box(&b.t[0]))
+                        });
+                    }
+                }
+                best = best.min(t0.elapsed().as_nanos() as f64 / (10 * band.len()) as f64);
+            }
+            println!("  band_triangles alone: {best:7.1} ns/pair");
+        }
         // What a query's answer at epsilon 0 gets: the crossing pairs through
         // `contact_geometry_many` (four at a time), all at once and in calls of 10 pairs
         // (an instrument's answer).
