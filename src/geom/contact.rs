@@ -376,35 +376,33 @@ unsafe fn many_avx2<P: PolygonPairs>(
     Ok(())
 }
 
-/// [`flush`] for AVX2 and FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn flush_avx2(
-    a: &TriLanes,
-    b: &TriLanes,
-    at: &[usize; four::LANES],
-    n: usize,
-    known: bool,
-    out: &mut [MaybeUninit<ContactGeometry>],
-) {
-    // SAFETY: the caller's promise.
-    unsafe { flush(a, b, at, n, known, out) }
+/// [`flush`] compiled for the target features `$features` (one wrapper per instruction
+/// set the kernel is built for; the body is inlined into each).
+macro_rules! flush_for {
+    ($name:ident, $features:literal, $doc:literal) => {
+        #[doc = $doc]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        unsafe fn $name(
+            a: &TriLanes,
+            b: &TriLanes,
+            at: &[usize; four::LANES],
+            n: usize,
+            known: bool,
+            out: &mut [MaybeUninit<ContactGeometry>],
+        ) {
+            // SAFETY: the caller's promise.
+            unsafe { flush(a, b, at, n, known, out) }
+        }
+    };
 }
 
-/// [`flush`] for AVX-512 (F and VL: 32 vector registers, mask registers for the blends).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-unsafe fn flush_avx512(
-    a: &TriLanes,
-    b: &TriLanes,
-    at: &[usize; four::LANES],
-    n: usize,
-    known: bool,
-    out: &mut [MaybeUninit<ContactGeometry>],
-) {
-    // SAFETY: the caller's promise.
-    unsafe { flush(a, b, at, n, known, out) }
-}
+flush_for!(flush_avx2, "avx2,fma", "[`flush`] for AVX2 and FMA.");
+flush_for!(
+    flush_avx512,
+    "avx2,fma,avx512f,avx512vl",
+    "[`flush`] for AVX-512 (F and VL: 32 vector registers, mask registers for the blends)."
+);
 
 /// One batch of [`many_avx2`] (see [`Flush`]): the kernel on the lanes, and the lanes it
 /// leaves one by one.
