@@ -2068,6 +2068,15 @@ mod tests {
         (*first, *second) = (src[0], src[1]);
     }
 
+    /// The pairs of a slice, as `contact_geometry_many` reads them.
+    fn fetch_from(pairs: &[(Polygon, Polygon)]) -> impl PolygonPairs<Error = ()> + Clone + '_ {
+        polygon_pairs(move |i, a, b| {
+            put(a, &pairs[i].0.t);
+            put(b, &pairs[i].1.t);
+            Ok::<_, ()>((pairs[i].0.n, pairs[i].1.n))
+        })
+    }
+
     // ---------------------------------------------------------------- double-double
 
     /// An unevaluated sum `hi + lo`, about 106 bits.
@@ -3501,16 +3510,7 @@ mod tests {
                     v.clear();
                     AVX2_ONLY.with(|c| c.set(avx2));
                     let spare = &mut v.spare_capacity_mut()[..len];
-                    contact_geometry_into(
-                        spare,
-                        known,
-                        polygon_pairs(|i, a, b| {
-                            put(a, &pairs[i].0.t);
-                            put(b, &pairs[i].1.t);
-                            Ok::<_, ()>((pairs[i].0.n, pairs[i].1.n))
-                        }),
-                    )
-                    .unwrap();
+                    contact_geometry_into(spare, known, fetch_from(&pairs)).unwrap();
                     AVX2_ONLY.with(|c| c.set(false));
                     // SAFETY: the call returned Ok, so it wrote the first `len` entries.
                     unsafe { v.set_len(len) };
@@ -3572,16 +3572,7 @@ mod tests {
             }
         }
         let mut out = vec![geometry(&pairs[0].0, &pairs[0].1); pairs.len()];
-        both_kernels(
-            &mut out,
-            true,
-            polygon_pairs(|i, a, b| {
-                put(a, &pairs[i].0.t);
-                put(b, &pairs[i].1.t);
-                Ok::<_, ()>((pairs[i].0.n, pairs[i].1.n))
-            }),
-        )
-        .unwrap();
+        both_kernels(&mut out, true, fetch_from(&pairs)).unwrap();
         let bits = |g: &ContactGeometry| {
             let f = |v: &[f64]| v.iter().map(|x| (x + 0.0).to_bits()).collect::<Vec<_>>();
             (
@@ -3607,16 +3598,7 @@ mod tests {
             }
         }
         let mut out = vec![geometry(&apart[0].0, &apart[0].1); apart.len()];
-        both_kernels(
-            &mut out,
-            true,
-            polygon_pairs(|i, a, b| {
-                put(a, &apart[i].0.t);
-                put(b, &apart[i].1.t);
-                Ok::<_, ()>((1, 1))
-            }),
-        )
-        .unwrap();
+        both_kernels(&mut out, true, fetch_from(&apart)).unwrap();
         for ((a, b), g) in apart.iter().zip(&out) {
             assert!(!g.intersecting, "{a:?} {b:?}");
             assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
@@ -3629,16 +3611,7 @@ mod tests {
             .flat_map(|(p, q)| [*p, *q])
             .collect();
         let mut out = vec![geometry(&mixed[0].0, &mixed[0].1); mixed.len()];
-        both_kernels(
-            &mut out,
-            false,
-            polygon_pairs(|i, a, b| {
-                put(a, &mixed[i].0.t);
-                put(b, &mixed[i].1.t);
-                Ok::<_, ()>((mixed[i].0.n, mixed[i].1.n))
-            }),
-        )
-        .unwrap();
+        both_kernels(&mut out, false, fetch_from(&mixed)).unwrap();
         for ((a, b), g) in mixed.iter().zip(&out) {
             assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
         }
@@ -4026,16 +3999,7 @@ mod tests {
                 {
                     for _ in 0..reps {
                         for (c, o) in crossing.chunks(chunk).zip(out.chunks_mut(chunk)) {
-                            contact_geometry_many(
-                                black_box(o),
-                                true,
-                                polygon_pairs(|i, a, b| {
-                                    put(a, &c[i].0.t);
-                                    put(b, &c[i].1.t);
-                                    Ok::<_, ()>((1, 1))
-                                }),
-                            )
-                            .unwrap();
+                            contact_geometry_many(black_box(o), true, fetch_from(c)).unwrap();
                         }
                     }
                 }
