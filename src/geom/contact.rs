@@ -301,17 +301,48 @@ unsafe fn band_triangles_avx2(a: &[P3; 3], b: &[P3; 3]) -> ContactGeometry {
     band_triangles(a, b)
 }
 
-/// The lanes of one batch of [`many_avx2`]: `a`, `b` lane `l` for lane `l < n` (the
-/// others repeat lane 0), whose answer goes to `out[at[l]]`.
+/// One batch of [`many_avx2`]: lane `l < n` is the pair `(a, b)` lane `l`, whose answer
+/// goes to `out[at[l]]`; once padded, the other lanes repeat lane 0.
 #[cfg(target_arch = "x86_64")]
-type Flush = unsafe fn(
-    &TriLanes,
-    &TriLanes,
-    &[usize; four::LANES],
-    usize,
-    bool,
-    &mut [MaybeUninit<ContactGeometry>],
-);
+struct Batch {
+    a: TriLanes,
+    b: TriLanes,
+    at: [usize; four::LANES],
+    n: usize,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Batch {
+    const EMPTY: Batch = Batch {
+        a: TriLanes::ZERO,
+        b: TriLanes::ZERO,
+        at: [0; four::LANES],
+        n: 0,
+    };
+
+    /// Pair `i`'s triangles into the next lane; true when the batch is full.
+    #[inline(always)]
+    fn push(&mut self, i: usize, a: &[P3; 3], b: &[P3; 3]) -> bool {
+        self.a.set(self.n, a);
+        self.b.set(self.n, b);
+        self.at[self.n] = i;
+        self.n += 1;
+        self.n == four::LANES
+    }
+
+    /// The unused lanes repeat the first (their answers are dropped).
+    fn pad(&mut self) {
+        let (a0, b0) = (self.a.get(0), self.b.get(0));
+        for l in self.n..four::LANES {
+            self.a.set(l, &a0);
+            self.b.set(l, &b0);
+        }
+    }
+}
+
+/// A batch's computation ([`flush`]) compiled for one instruction set.
+#[cfg(target_arch = "x86_64")]
+type Flush = unsafe fn(&Batch, bool, &mut [MaybeUninit<ContactGeometry>]);
 
 /// [`contact_geometry_many`] on a CPU with AVX2 and FMA.
 #[cfg(target_arch = "x86_64")]
@@ -321,7 +352,6 @@ unsafe fn many_avx2<P: PolygonPairs>(
     known: bool,
     fetch: &mut P,
 ) -> Result<(), P::Error> {
-    const N: usize = four::LANES;
     // The same kernel compiled for AVX-512 where the CPU has it: the same 256-bit
     // arithmetic (so the same answers; only copies of whole entries may use 512-bit
     // moves), with 32 vector registers instead of 16, which spares the kernel most of its
@@ -339,39 +369,27 @@ unsafe fn many_avx2<P: PolygonPairs>(
     } else {
         flush_avx2
     };
-    // The batch's triangles, lane by lane, and the pair each lane is.
-    let (mut a, mut b) = (TriLanes::ZERO, TriLanes::ZERO);
-    let mut at = [0; N];
-    let mut n = 0;
+    let mut batch = Batch::EMPTY;
     // The pair being read (a quad's second triangles in `a1`, `b1`).
     let ([mut a0, mut a1], [mut b0, mut b1]) = ([[[0.0; 3]; 3]; 2], [[[0.0; 3]; 3]; 2]);
     for i in 0..out.len() {
         let (na, nb) = fetch.fetch(i, [&mut a0, &mut a1], [&mut b0, &mut b1])?;
         if na == 1 && nb == 1 {
-            a.set(n, &a0);
-            b.set(n, &b0);
-            at[n] = i;
-            n += 1;
-            if n == N {
+            if batch.push(i, &a0, &b0) {
                 // SAFETY: this function runs only on a CPU with AVX2 and FMA (and the
                 // AVX-512 kernel where it has AVX-512 too).
-                unsafe { flush(&a, &b, &at, n, known, out) };
-                n = 0;
+                unsafe { flush(&batch, known, out) };
+                batch.n = 0;
             }
         } else {
             // SAFETY: this function runs only on a CPU with AVX2 and FMA.
             out[i].write(unsafe { contact_geometry_avx2(&[a0, a1], na, &[b0, b1], nb) });
         }
     }
-    if n > 0 {
-        // The unused lanes repeat the first (their answers are dropped).
-        let (a0, b0) = (a.get(0), b.get(0));
-        for l in n..N {
-            a.set(l, &a0);
-            b.set(l, &b0);
-        }
+    if batch.n > 0 {
+        batch.pad();
         // SAFETY: as above.
-        unsafe { flush(&a, &b, &at, n, known, out) };
+        unsafe { flush(&batch, known, out) };
     }
     Ok(())
 }
@@ -383,16 +401,9 @@ macro_rules! flush_for {
         #[doc = $doc]
         #[cfg(target_arch = "x86_64")]
         #[target_feature(enable = $features)]
-        unsafe fn $name(
-            a: &TriLanes,
-            b: &TriLanes,
-            at: &[usize; four::LANES],
-            n: usize,
-            known: bool,
-            out: &mut [MaybeUninit<ContactGeometry>],
-        ) {
+        unsafe fn $name(batch: &Batch, known: bool, out: &mut [MaybeUninit<ContactGeometry>]) {
             // SAFETY: the caller's promise.
-            unsafe { flush(a, b, at, n, known, out) }
+            unsafe { flush(batch, known, out) }
         }
     };
 }
@@ -404,22 +415,16 @@ flush_for!(
     "[`flush`] for AVX-512 (F and VL: 32 vector registers, mask registers for the blends)."
 );
 
-/// One batch of [`many_avx2`] (see [`Flush`]): the kernel on the lanes, and the lanes it
-/// leaves one by one.
+/// One batch of [`many_avx2`]: the kernel on the lanes, and the lanes it leaves one by
+/// one.
 ///
 /// # Safety
-/// The CPU has AVX2 and FMA; the caller is compiled for them; `at[l]` is in `out` for
-/// `l < n`.
+/// The CPU has AVX2 and FMA; the caller is compiled for them; `batch.at[l]` is in `out`
+/// for `l < batch.n`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-unsafe fn flush(
-    a: &TriLanes,
-    b: &TriLanes,
-    at: &[usize; four::LANES],
-    n: usize,
-    known: bool,
-    out: &mut [MaybeUninit<ContactGeometry>],
-) {
+unsafe fn flush(batch: &Batch, known: bool, out: &mut [MaybeUninit<ContactGeometry>]) {
+    let Batch { a, b, at, n } = batch;
     // SAFETY: the caller's promise.
     let (ta, tb) = unsafe { (a.load(), b.load()) };
     // The lanes that intersect: all when known, else those the exact test's lanes
@@ -439,7 +444,7 @@ unsafe fn flush(
     } else {
         0
     };
-    for l in 0..n {
+    for l in 0..*n {
         if answered & crossing & (1 << l) != 0 {
             continue;
         }
