@@ -187,8 +187,15 @@ fn contact_geometry_any(
 ) -> ContactGeometry {
     let (na, nb) = (na.clamp(1, 2), nb.clamp(1, 2));
     if na == 1 && nb == 1 {
-        if twin(&a[0]) || twin(&b[0]) {
-            if let Some(world) = segment_crossing(&a[0], &b[0]) {
+        // One of them a segment (two equal corners), the other not: the segment path.
+        let (ta, tb) = (twin(&a[0]), twin(&b[0]));
+        if ta != tb {
+            let seg = if ta {
+                segment_crossing(&a[0], &b[0], 1.0)
+            } else {
+                segment_crossing(&b[0], &a[0], -1.0)
+            };
+            if let Some(world) = seg {
                 return finish(&world, &[0.0; 3], &a[0][0]);
             }
         }
@@ -585,14 +592,9 @@ fn twin(t: &[P3; 3]) -> bool {
 /// is). The depth is the separating-axis minimum over what the Minkowski difference of a
 /// segment and a triangle has as facets: the triangle's normal and the segment crossed
 /// with each of its edges (the segment's own normal and its other edges are zero), in a
-/// frame at the segment's first end.
-fn segment_crossing(a: &[P3; 3], b: &[P3; 3]) -> Option<Local> {
-    // The segment and the triangle, and the sign that turns a translation of the segment
-    // into one of `a`.
-    let (seg, tri, flip) = if twin(a) { (a, b, 1.0) } else { (b, a, -1.0) };
-    if twin(tri) {
-        return None;
-    }
+/// frame at the segment's first end. `seg` has two equal corners, `tri` none; `flip` (+-1)
+/// turns a translation of `seg` into one of polygon `a` (-1 when `seg` is `b`).
+fn segment_crossing(seg: &[P3; 3], tri: &[P3; 3], flip: f64) -> Option<Local> {
     let (p, q) = if seg[0] == seg[1] {
         (seg[0], seg[2])
     } else {
@@ -3432,7 +3434,12 @@ mod tests {
                 continue;
             }
             all += 1;
-            let Some(local) = segment_crossing(&sa.t[0], &sb.t[0]) else {
+            let local = if i % 2 == 0 {
+                segment_crossing(&sa.t[0], &sb.t[0], 1.0)
+            } else {
+                segment_crossing(&sb.t[0], &sa.t[0], -1.0)
+            };
+            let Some(local) = local else {
                 continue;
             };
             fast += 1;
