@@ -696,28 +696,27 @@ impl Mesh {
     /// lane of a batch.
     #[inline(always)]
     pub fn polygon_triangles_into(&self, polygon: u32, out: [&mut [P3; 3]; 2]) -> Option<usize> {
-        let at = *self.poly_leaf.get(polygon as usize)? as usize;
-        let v = self.poly(at);
-        let w = |i: usize| self.world(v[i] as usize);
-        let [first, second] = out;
-        *first = [w(0), w(1), w(2)];
-        Some(if self.k == 4 {
-            *second = [w(0), w(2), w(3)];
-            2
-        } else {
-            1
-        })
+        let at = *self.poly_leaf.get(polygon as usize)?;
+        Some(self.triangles_into(at as usize, out))
     }
 
     /// The triangles of leaf-ordered polygon `p` at their world positions: one for a
     /// triangle, (v0,v1,v2) and (v0,v2,v3) for a quad. Returns how many were written.
     #[inline]
     pub fn triangles(&self, p: usize, out: &mut [[P3; 3]; 2]) -> usize {
+        let [first, second] = out;
+        self.triangles_into(p, [first, second])
+    }
+
+    /// [`Mesh::triangles`] into two separate places (the first triangle, a quad's second).
+    #[inline(always)]
+    pub fn triangles_into(&self, p: usize, out: [&mut [P3; 3]; 2]) -> usize {
         let v = self.poly(p);
         let w = |i: usize| self.world(v[i] as usize);
-        out[0] = [w(0), w(1), w(2)];
+        let [first, second] = out;
+        *first = [w(0), w(1), w(2)];
         if self.k == 4 {
-            out[1] = [w(0), w(2), w(3)];
+            *second = [w(0), w(2), w(3)];
             2
         } else {
             1
