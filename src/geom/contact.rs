@@ -2054,15 +2054,6 @@ mod tests {
         AVX2_ONLY.with(|c| c.set(false));
         avx2.unwrap();
         contact_geometry_many(out, known, fetch)?;
-        let bits = |g: &ContactGeometry| {
-            let mut v: Vec<u64> = [g.point_a, g.point_b, g.normal]
-                .iter()
-                .flatten()
-                .map(|x| x.to_bits())
-                .collect();
-            v.extend([g.depth.to_bits(), g.intersecting as u64, g.coplanar as u64]);
-            v
-        };
         for (g, h) in out.iter().zip(&other) {
             assert_eq!(bits(g), bits(h), "{g:?} {h:?}");
         }
@@ -2073,6 +2064,29 @@ mod tests {
     fn put(dst: [&mut [P3; 3]; 2], src: &[[P3; 3]; 2]) {
         let [first, second] = dst;
         (*first, *second) = (src[0], src[1]);
+    }
+
+    /// Every field's bits, for comparisons bit for bit.
+    fn bits(g: &ContactGeometry) -> Vec<u64> {
+        let mut v: Vec<u64> = [g.point_a, g.point_b, g.normal]
+            .iter()
+            .flatten()
+            .map(|x| x.to_bits())
+            .collect();
+        v.extend([g.depth.to_bits(), g.intersecting as u64, g.coplanar as u64]);
+        v
+    }
+
+    /// `g` with every -0 made +0 (what adding a zero origin does).
+    fn plus_zero(g: &ContactGeometry) -> ContactGeometry {
+        let z = |v: [f64; 3]| v.map(|x| x + 0.0);
+        ContactGeometry {
+            point_a: z(g.point_a),
+            point_b: z(g.point_b),
+            normal: z(g.normal),
+            depth: g.depth + 0.0,
+            ..*g
+        }
     }
 
     /// The pairs of a slice, as `contact_geometry_many` reads them.
@@ -3502,19 +3516,7 @@ mod tests {
             intersecting: true,
             coplanar: true,
         };
-        let bits = |g: &ContactGeometry| {
-            let mut x: Vec<u64> = [g.point_a, g.point_b, g.normal]
-                .iter()
-                .flatten()
-                .map(|x| (x + 0.0).to_bits())
-                .collect();
-            x.extend([
-                (g.depth + 0.0).to_bits(),
-                g.intersecting as u64,
-                g.coplanar as u64,
-            ]);
-            x
-        };
+        let bits = |g: &ContactGeometry| bits(&plus_zero(g));
         for known in [false, true] {
             for len in [1usize, 2, 3, 4, 5, 7, 9, 63, 64, 65, 257, 3000] {
                 for avx2 in [false, true] {
@@ -3585,17 +3587,7 @@ mod tests {
         }
         let mut out = vec![geometry(&pairs[0].0, &pairs[0].1); pairs.len()];
         both_kernels(&mut out, true, fetch_from(&pairs)).unwrap();
-        let bits = |g: &ContactGeometry| {
-            let f = |v: &[f64]| v.iter().map(|x| (x + 0.0).to_bits()).collect::<Vec<_>>();
-            (
-                f(&g.point_a),
-                f(&g.point_b),
-                f(&g.normal),
-                (g.depth + 0.0).to_bits(),
-                g.intersecting,
-                g.coplanar,
-            )
-        };
+        let bits = |g: &ContactGeometry| bits(&plus_zero(g));
         for ((a, b), g) in pairs.iter().zip(&out) {
             assert_eq!(bits(g), bits(&geometry(a, b)), "{a:?} {b:?}");
         }
