@@ -339,7 +339,7 @@ mod tests {
             let tip = t[2];
             let d = unit(&sub(&t[2], &t[0]));
             let mut missed = 0;
-            for k in 0..2000 {
+            for _ in 0..2000 {
                 // Past the tip along the needle, a little to the side, within the depth.
                 let past = 10f64.powf(-8.0 + 3.0 * rng.unit()) * scale;
                 let side = rng.dir();
@@ -347,7 +347,6 @@ mod tests {
                     tip[i] + d[i] * past + (side[i] - d[i] * dot(&side, &d)) * past * 0.5
                 });
                 missed += usize::from(!c.meets_triangle(&[p; 3]));
-                let _ = k;
             }
             assert_eq!(missed, 2000, "offset {o} scale {scale}");
             // Just inside: a tenth of the way from the tip to the base, on the long side's
