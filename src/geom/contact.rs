@@ -1776,8 +1776,14 @@ enum Feature {
 /// interior of the other, non-flat, triangle) and the nine edge-edge ones (which include
 /// vertex-edge and vertex-vertex). The vertex-face winner must also be certain of its
 /// side (exact); else the edge-edge winner, which then realizes the same distance.
+///
+/// First the common case of triangles within a band, nearly parallel, each wholly on one
+/// side of the other's plane: [`vertex_over_face`] answers it without the nine edge pairs.
 #[inline(always)]
 fn closest(t: &Tri, u: &Tri) -> Closest {
+    if let Some(c) = vertex_over_face(t, u, false).or_else(|| vertex_over_face(u, t, true)) {
+        return c;
+    }
     let mut ee: Option<Closest> = None;
     for i in 0..3 {
         for j in 0..3 {
@@ -1842,6 +1848,63 @@ fn closest(t: &Tri, u: &Tri) -> Closest {
         }
     }
     best
+}
+
+/// The closest points of `t` and `u` when they are certainly a vertex of `t` and its foot
+/// on `u`: `u` is not flat, every vertex of `t` lies on one side of `u`'s plane (each
+/// distance beyond its rounding), and the foot of the nearest one lies inside `u`. No point
+/// of `t` is then nearer `u`'s plane than that vertex, so nothing of the two triangles is
+/// nearer than the vertex and its foot: [`closest`]'s answer, found without its edge
+/// pairs. (`swapped`: `t` and `u` are [`closest`]'s second and first triangles.) Among
+/// vertices equally near, the first, as `closest` takes.
+#[inline(always)]
+fn vertex_over_face(t: &Tri, u: &Tri, swapped: bool) -> Option<Closest> {
+    if u.flat {
+        return None;
+    }
+    let n = &u.n;
+    // The rounding of `n`'s components is below a few eps of the products behind them
+    // (`|e| |f|`), of the dot product below a few eps of its terms: FACE_SLACK (1e-12)
+    // leaves a margin of thousands.
+    let (e, f) = (u.v[1] - u.v[0], u.v[2] - u.v[0]);
+    let n_scale = n.abs().sum() + 6.0 * e.amax() * f.amax();
+    let mut h = [0.0; 3];
+    for (h, v) in h.iter_mut().zip(&t.v) {
+        let w = v - u.v[0];
+        *h = n.dot(&w);
+        if h.abs() <= FACE_SLACK * n_scale * w.amax() {
+            return None;
+        }
+    }
+    if (h[0] > 0.0) != (h[1] > 0.0) || (h[1] > 0.0) != (h[2] > 0.0) {
+        return None;
+    }
+    let mut k = 0;
+    for j in 1..3 {
+        if h[j].abs() < h[k].abs() {
+            k = j;
+        }
+    }
+    let (foot, d2) = over_face(&t.v[k], u)?;
+    // The feature's side, exactly (as `closest` requires of a vertex over a face).
+    if orient3d(&u.p[0], &u.p[1], &u.p[2], &t.p[k]) == 0.0 {
+        return None;
+    }
+    Some(if swapped {
+        Closest {
+            p: foot,
+            q: t.v[k],
+            d2,
+            feature: Feature::FaceVertex { k },
+        }
+    } else {
+        Closest {
+            p: t.v[k],
+            q: foot,
+            d2,
+            feature: Feature::VertexFace { k },
+        }
+    })
 }
 
 /// The foot of `x` on the plane of the non-flat triangle `f` and the squared distance,
