@@ -27,6 +27,8 @@ use super::predicates::{collinear, orient2d, orient3d, orient3d_filtered, P3};
 use super::tritri::{segments_intersect_2d, separated, triangles_intersect_with, Plane};
 
 #[cfg(target_arch = "x86_64")]
+mod edges;
+#[cfg(target_arch = "x86_64")]
 mod four;
 
 type V = Vector3<f64>;
@@ -1789,36 +1791,13 @@ fn closest(t: &Tri, u: &Tri) -> Closest {
 /// [`closest`] by the full search: every edge pair, every vertex over a face.
 #[inline(always)]
 fn closest_search(t: &Tri, u: &Tri) -> Closest {
-    let mut ee: Option<Closest> = None;
-    for i in 0..3 {
-        for j in 0..3 {
-            let (p0, p1) = (t.v[i], t.v[(i + 1) % 3]);
-            let (q0, q1) = (u.v[j], u.v[(j + 1) % 3]);
-            let (s, r) = segment_params(&p0, &p1, &q0, &q1);
-            let p = p0 + (p1 - p0) * s;
-            let q = q0 + (q1 - q0) * r;
-            let d2 = (p - q).norm_squared();
-            if ee.as_ref().is_none_or(|c| d2 < c.d2) {
-                ee = Some(Closest {
-                    p,
-                    q,
-                    d2,
-                    feature: Feature::EdgeEdge { i, j, s, r },
-                });
-            }
-        }
-    }
-    let mut best = ee.unwrap_or(Closest {
-        p: t.v[0],
-        q: u.v[0],
-        d2: (t.v[0] - u.v[0]).norm_squared(),
-        feature: Feature::EdgeEdge {
-            i: 0,
-            j: 0,
-            s: 0.0,
-            r: 0.0,
-        },
-    });
+    let (i, j, EdgePair { p, q, d2, s, r }) = nearest_edge_pair(t, u);
+    let mut best = Closest {
+        p,
+        q,
+        d2,
+        feature: Feature::EdgeEdge { i, j, s, r },
+    };
     let mut vf: Option<Closest> = None;
     for k in 0..3 {
         if let Some((q, d2)) = over_face(&t.v[k], u) {
@@ -1933,6 +1912,55 @@ fn over_face(x: &V, f: &Tri) -> Option<(V, f64)> {
     }
     let h = n.dot(&(x - f.v[0]));
     Some((x - n * (h / nn), h * h / nn))
+}
+
+/// The closest points of an edge of each triangle ([`segment_params`]).
+#[derive(Clone, Copy, Default)]
+struct EdgePair {
+    /// On the first triangle's edge, at parameter `s`.
+    p: V,
+    /// On the second's, at parameter `r`.
+    q: V,
+    d2: f64,
+    s: f64,
+    r: f64,
+}
+
+/// The nearest edge pair of `t` and `u`, as `(i, j, pair)` for edge `i` of `t`
+/// (`v[i]`-`v[i+1]`) and edge `j` of `u`: the first in order (`i`, then `j`) among those of
+/// least `d2`. Three pairs at a time where the CPU has AVX2 (`edges.rs`, bit for bit the
+/// same answer).
+#[inline(always)]
+fn nearest_edge_pair(t: &Tri, u: &Tri) -> (usize, usize, EdgePair) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has AVX2 and FMA (checked just above).
+        if let Some(n) = unsafe { edges::nearest_edge_pair(t, u) } {
+            return n;
+        }
+    }
+    nearest_edge_pair_scalar(t, u)
+}
+
+/// [`nearest_edge_pair`] one pair at a time.
+#[inline(always)]
+fn nearest_edge_pair_scalar(t: &Tri, u: &Tri) -> (usize, usize, EdgePair) {
+    let mut best: Option<(usize, usize, EdgePair)> = None;
+    for i in 0..3 {
+        for j in 0..3 {
+            let (p0, p1) = (t.v[i], t.v[(i + 1) % 3]);
+            let (q0, q1) = (u.v[j], u.v[(j + 1) % 3]);
+            let (s, r) = segment_params(&p0, &p1, &q0, &q1);
+            let p = p0 + (p1 - p0) * s;
+            let q = q0 + (q1 - q0) * r;
+            let d2 = (p - q).norm_squared();
+            if best.as_ref().is_none_or(|(_, _, b)| d2 < b.d2) {
+                best = Some((i, j, EdgePair { p, q, d2, s, r }));
+            }
+        }
+    }
+    // (Nine pairs: never empty.)
+    best.unwrap_or((0, 0, EdgePair::default()))
 }
 
 /// Parameters `(s, r)` of the closest points of segments `p0`-`p1` and `q0`-`q1` (either
@@ -3217,6 +3245,90 @@ mod tests {
                 check(&a, &b, true)
             }
         });
+    }
+
+    /// The nearest edge pair found in AVX2 lanes (`edges.rs`) is the scalar search's, bit
+    /// for bit and the same pair among equals: on random pairs at every scale and offset,
+    /// on degenerate ones (edges of length 0, triangles that are points or segments,
+    /// parallel and collinear edges, a shared vertex, a triangle and its copy moved along
+    /// its normal: many pairs equally near), and at coordinates near the f64 range's end
+    /// (NaN distances: left to the scalar search).
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn nearest_edge_pair_in_lanes_is_the_scalar_one() {
+        if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
+            return;
+        }
+        let key = |(i, j, e): (usize, usize, EdgePair)| {
+            let mut v = vec![i as u64, j as u64];
+            v.extend(
+                [e.d2, e.s, e.r]
+                    .iter()
+                    .chain(e.p.iter())
+                    .chain(e.q.iter())
+                    // Bits as they are (-0 is not 0 here).
+                    .map(|x| x.to_bits()),
+            );
+            v
+        };
+        let mut r = Rng(4242);
+        let (mut n, mut ties, mut left) = (0, 0, 0);
+        for &(o, s) in FRAMES.iter().chain(&[(0.0, 1e155), (1e154, 1.0)]) {
+            let c = [o, 0.7 * o, -0.4 * o];
+            for i in 0..900 {
+                let mut t = random_tri(&mut r, &c, s);
+                let mut u = random_tri(&mut r, &c, s);
+                match i % 9 {
+                    // Repeated corners: an edge of length 0, a segment, a point.
+                    1 => t[1] = t[0],
+                    2 => u[2] = u[1],
+                    3 => (t[1], t[2]) = (t[0], t[0]),
+                    4 => (u[1], u[2]) = (u[0], u[0]),
+                    // Parallel edges (u's first edge a shifted copy of t's), collinear
+                    // corners, a shared vertex, a copy along the normal.
+                    5 => {
+                        let d = r.v(s);
+                        (u[0], u[1]) = (plus(&t[0], &d), plus(&t[1], &d));
+                    }
+                    6 => t[2] = combo(&[t[0], t[1], t[1]], &[0.25, 0.75, 0.0]),
+                    7 => u[0] = t[2],
+                    8 => {
+                        let (e, f) = (local(&t[1], &t[0]), local(&t[2], &t[0]));
+                        let up = e.cross(&f) * (0.1 / e.norm().max(f.norm()));
+                        u = t.map(|p| [p[0] + up.x, p[1] + up.y, p[2] + up.z]);
+                    }
+                    _ => {}
+                }
+                let o3 = t[0];
+                let (ta, tb) = (Tri::new(&t, &o3), Tri::new(&u, &o3));
+                let scalar = nearest_edge_pair_scalar(&ta, &tb);
+                // SAFETY: the CPU has AVX2 and FMA (checked above).
+                match unsafe { edges::nearest_edge_pair(&ta, &tb) } {
+                    Some(lanes) => assert_eq!(key(lanes), key(scalar), "{t:?} {u:?}"),
+                    None => {
+                        left += 1;
+                        assert!(scalar.2.d2.is_nan() || s > 1e150 || o > 1e150);
+                    }
+                }
+                assert_eq!(key(nearest_edge_pair(&ta, &tb)), key(scalar));
+                // Pairs as near as the nearest, after it in the order.
+                let all = {
+                    let mut d = Vec::new();
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            let (p0, p1) = (ta.v[i], ta.v[(i + 1) % 3]);
+                            let (q0, q1) = (tb.v[j], tb.v[(j + 1) % 3]);
+                            let (s, r) = segment_params(&p0, &p1, &q0, &q1);
+                            d.push(((p0 + (p1 - p0) * s) - (q0 + (q1 - q0) * r)).norm_squared());
+                        }
+                    }
+                    d
+                };
+                ties += usize::from(all.iter().filter(|&&d| d == scalar.2.d2).count() > 1);
+                n += 1;
+            }
+        }
+        assert!(n > 8000 && ties > 500 && left > 0, "{n} {ties} {left}");
     }
 
     /// [`vertex_over_face`], the band's shortcut, against the full search it skips: on
