@@ -711,14 +711,37 @@ impl Mesh {
     /// [`Mesh::triangles`] into two separate places (the first triangle, a quad's second).
     #[inline(always)]
     pub fn triangles_into(&self, p: usize, out: [&mut [P3; 3]; 2]) -> usize {
-        let v = self.poly(p);
-        let w = |i: usize| self.world(v[i] as usize);
         let [first, second] = out;
-        *first = [w(0), w(1), w(2)];
+        // The placement looked at once per polygon, not per vertex (the contact geometry
+        // reads two polygons a pair through here).
+        match &self.place {
+            None => self.corners_into(p, widen, first, second),
+            Some(pl) => self.corners_into(p, |s| pl.m.apply(s), first, second),
+        }
+    }
+
+    /// [`Mesh::triangles_into`] with `world` making a slot's position.
+    #[inline(always)]
+    fn corners_into(
+        &self,
+        p: usize,
+        world: impl Fn(&[f32; 3]) -> P3,
+        first: &mut [P3; 3],
+        second: &mut [P3; 3],
+    ) -> usize {
+        let w = |v: u32| world(&self.slots[v as usize]);
         if self.k == 4 {
-            *second = [w(0), w(2), w(3)];
+            let v: &[u32; 4] = self.polys[p * 4..p * 4 + 4]
+                .try_into()
+                .expect("four corners");
+            *first = [w(v[0]), w(v[1]), w(v[2])];
+            *second = [w(v[0]), w(v[2]), w(v[3])];
             2
         } else {
+            let v: &[u32; 3] = self.polys[p * 3..p * 3 + 3]
+                .try_into()
+                .expect("three corners");
+            *first = [w(v[0]), w(v[1]), w(v[2])];
             1
         }
     }
