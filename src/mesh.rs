@@ -533,6 +533,17 @@ impl Mesh {
         &self.slots
     }
 
+    /// The slots' positions become `xyz` (three floats a slot, as many slots): a mesh read
+    /// from a host GL buffer on the GPU gets the positions its last query used, for contact
+    /// geometry. Nothing else changes (its boxes came from the GPU with that query; its
+    /// generation stays, the positions being the ones the GPU already holds).
+    pub(crate) fn set_slot_positions(&mut self, xyz: &[f32]) {
+        debug_assert_eq!(xyz.len(), 3 * self.slots.len());
+        for (s, p) in self.slots.iter_mut().zip(xyz.chunks_exact(3)) {
+            *s = [p[0], p[1], p[2]];
+        }
+    }
+
     /// Slot -> the caller's vertex index.
     pub fn slot_vertices(&self) -> &[u32] {
         &self.slot_vertex

@@ -700,8 +700,10 @@ impl Scene {
     /// [`contact_geometry`](crate::geom::contact::contact_geometry) for every rule).
     /// InvalidArgument before any query, after a failed one, or after any change to the
     /// meshes since
-    /// (create, update, enable, destroy, filter, self-collision, GL buffer binding);
-    /// Unsupported when a mesh of the answer reads its positions from a GL buffer.
+    /// (create, update, enable, destroy, filter, self-collision, GL buffer binding). A mesh
+    /// of the answer that reads its positions from a host GL buffer is read at the positions
+    /// the query used (GL_COMPUTE reads back what the query gathered: the scene's context
+    /// must be current, else GlUnavailable, the answer kept).
     pub fn contact_geometry(&mut self) -> Result<&[ContactGeometry]> {
         let last = self.last;
         let n = match last {
@@ -718,27 +720,26 @@ impl Scene {
         if self.geometry.len() == n && n > 0 {
             return Ok(&self.geometry);
         }
-        // Each mesh once per run of pairs (the pairs of an answer come from a few meshes,
-        // in runs); none when no mesh reads a GL buffer.
-        let mut checked = [None; 2];
-        let scan = if self.selector.any_gl_bound() { n } else { 0 };
-        for k in 0..scan {
-            let (a, _, b, _) = item(last, &self.contacts, &self.pairs, k);
-            for (side, id) in [a, b].into_iter().enumerate() {
-                if checked[side] == Some(id) {
-                    continue;
-                }
-                checked[side] = Some(id);
-                if self.selector.gl_bound(id) {
-                    return Err(Error::new(
-                        ErrorKind::Unsupported,
-                        format!(
-                            "mesh {id} reads its positions from a GL buffer: contact geometry \
-                             needs positions on the CPU"
-                        ),
-                    ));
+        // Meshes of the answer read from a host GL buffer: their positions as the query used
+        // them, into their CPU positions (each mesh once per run of pairs: the pairs of an
+        // answer come from a few meshes, in runs; no scan when no mesh reads a GL buffer).
+        let bound = self.selector.any_gl_bound();
+        if bound {
+            let mut ids: Vec<MeshId> = Vec::new();
+            let mut last_seen = [None; 2];
+            for k in 0..n {
+                let (a, _, b, _) = item(last, &self.contacts, &self.pairs, k);
+                for (side, id) in [a, b].into_iter().enumerate() {
+                    if last_seen[side] != Some(id) {
+                        last_seen[side] = Some(id);
+                        if self.selector.gl_bound(id) && !ids.contains(&id) {
+                            ids.push(id);
+                        }
+                    }
                 }
             }
+            self.selector
+                .positions_for_geometry(&mut self.meshes, &ids)?;
         }
         if n > PAR_GEOMETRY {
             self.start_workers()?;
@@ -749,8 +750,10 @@ impl Scene {
         // Written once, by the fill below, in the vector's spare capacity.
         let spare = &mut out.spare_capacity_mut()[..n];
         // Four triangle pairs at a time. At epsilon 0 every pair of the answer intersects
-        // (the exact test decided it, on every backend), so the geometry skips that test.
-        let known = self.config.epsilon == 0.0;
+        // (the exact test decided it), so the geometry skips that test; not where a mesh
+        // reads a host GL buffer (GL_COMPUTE's answer for it has no CPU confirmation and may
+        // hold pairs within its rounding band: the geometry decides them exactly).
+        let known = self.config.epsilon == 0.0 && !bound;
         let (meshes, contacts, pairs) = (&self.meshes, &self.contacts, &self.pairs);
         // Entries `out` from pair `base` on.
         let fill = |out: &mut [MaybeUninit<ContactGeometry>], base: usize| -> Result<()> {

@@ -301,6 +301,30 @@ fn epsilon_zero_is_exact_on_the_gl_backends() {
             "bound: {p:?} beyond the minimum epsilon band"
         );
     }
+    // Contact geometry of the bound mesh (read back from what the query gathered): the
+    // exact pairs intersect, any pair the band added does not (closest points, depth <= 0).
+    let contacts = query(s, b_id);
+    let (mut gp, mut gn) = (std::ptr::null(), 0);
+    // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
+    ok(unsafe { glcol_query_geometry(s, &mut gp, &mut gn) });
+    assert_eq!(gn, contacts.len());
+    // SAFETY: the scene's `gn` entries, alive until its next query.
+    let geo = unsafe { std::slice::from_raw_parts(gp, gn) };
+    let mut extras = 0;
+    for (c, g) in contacts.iter().zip(geo) {
+        let intersecting = g.flags & GLCOL_CONTACT_INTERSECTING != 0;
+        assert_eq!(
+            intersecting,
+            exact.binary_search(&(c.1, c.2)).is_ok(),
+            "bound: geometry of {c:?}"
+        );
+        assert!(intersecting || g.depth <= 0.0, "{c:?}");
+        extras += usize::from(!intersecting);
+    }
+    println!(
+        "bound: {} pairs, {extras} within the band only",
+        contacts.len()
+    );
     // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     unsafe {
         glcol_scene_destroy(s);

@@ -591,6 +591,44 @@ impl Compute {
         self.obj.as_ref().expect("GL objects exist until release")
     }
 
+    /// Bound mesh `id`'s positions as the last query gathered them from the host's buffer
+    /// into the arena (slot order, gather.glsl), read back into `m`'s CPU positions: what
+    /// contact geometry needs (the host may have written its buffer since). A sync point.
+    fn read_gathered(&mut self, gl: &Gl, id: u32, m: &mut Mesh) -> Result<()> {
+        let n = m.slot_positions().len();
+        let Some(s) = self.slots.get(&id).filter(|s| s.vertices as usize == n) else {
+            return Err(Error::new(
+                ErrorKind::Internal,
+                format!("mesh {id} has no positions on the GPU from the last query"),
+            ));
+        };
+        let at = gl_bytes(s.vertex_base.into(), 12, "the positions")?;
+        let len = gl_bytes(n as u64, 12, "the positions")?;
+        if n == 0 {
+            return Ok(());
+        }
+        let g = &gl.gl;
+        let b = self.objects().buffers[POS];
+        // SAFETY: as in `rebuild`; the mesh's `n` slots lie at `vertex_base` in the
+        // positions buffer (its layout); the mapping is read only within them and unmapped
+        // before anything else touches the buffer. The barrier makes the gather's shader
+        // writes visible to the mapping.
+        unsafe {
+            g.memory_barrier(glow::BUFFER_UPDATE_BARRIER_BIT);
+            g.bind_buffer(glow::SHADER_STORAGE_BUFFER, Some(b));
+            let p = g.map_buffer_range(glow::SHADER_STORAGE_BUFFER, at, len, glow::MAP_READ_BIT);
+            if p.is_null() {
+                gl.check("mapping the gathered positions")?;
+                return Err(gl_err("glMapBufferRange returned NULL".into()));
+            }
+            let f = std::slice::from_raw_parts(p.cast::<f32>(), 3 * n);
+            m.set_slot_positions(f);
+            g.unmap_buffer(glow::SHADER_STORAGE_BUFFER);
+        }
+        self.readbacks += 1;
+        gl.check("reading back the positions a query gathered")
+    }
+
     fn layout_matches(&self, meshes: &BTreeMap<u32, Mesh>) -> bool {
         self.slots.len() == meshes.len()
             && self.slots.iter().zip(meshes).all(|((a, s), (b, m))| {
@@ -1148,6 +1186,33 @@ impl Selector for GlComputeSelector {
 
     fn any_gl_bound(&self) -> bool {
         !self.st.bound.is_empty()
+    }
+
+    fn positions_for_geometry(
+        &mut self,
+        meshes: &mut BTreeMap<u32, Mesh>,
+        ids: &[u32],
+    ) -> Result<()> {
+        let bound: Vec<u32> = ids
+            .iter()
+            .copied()
+            .filter(|id| self.st.bound.contains_key(id))
+            .collect();
+        if bound.is_empty() {
+            return Ok(());
+        }
+        self.guarded(|gl, st| {
+            for id in bound {
+                let m = meshes.get_mut(&id).ok_or_else(|| {
+                    Error::new(
+                        ErrorKind::Internal,
+                        format!("mesh {id} of the answer is gone"),
+                    )
+                })?;
+                st.read_gathered(gl, id, m)?;
+            }
+            Ok(())
+        })
     }
 
     fn bind_gl_buffer(

@@ -318,6 +318,19 @@ pub trait Selector: Send {
         false
     }
 
+    /// Contact geometry is about to read the meshes `ids` (those of the last answer): each
+    /// one bound to a host GL buffer gets, in its CPU positions, the positions the last
+    /// query used. GL_COMPUTE reads back what that query gathered on the GPU (the scene's
+    /// context must be current); a CPU scene read the buffers into the meshes at the query
+    /// already (nothing to do).
+    fn positions_for_geometry(
+        &mut self,
+        _meshes: &mut BTreeMap<u32, Mesh>,
+        _ids: &[u32],
+    ) -> Result<()> {
+        Ok(())
+    }
+
     /// Deletes the backend's GL objects (the scene's context must be current). Called once,
     /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
     fn release(&mut self) {}

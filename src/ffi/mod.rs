@@ -865,8 +865,13 @@ fn to_f32(x: f64) -> f32 {
 ///
 /// Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
 /// last query failed, or when the meshes changed since it (create, update, enable,
-/// destroy, filter, self-collision, GL buffer binding); UNSUPPORTED when a mesh of the
-/// answer reads its positions from a GL buffer (glcol_mesh_bind_gl_buffer).
+/// destroy, filter, self-collision, GL buffer binding). A mesh of the answer bound to a
+/// GL buffer (glcol_mesh_bind_gl_buffer) is taken at the positions its query read, even if
+/// the host has written the buffer since: on GL_COMPUTE they are read back from the GPU
+/// (a sync point; the scene's context must be current: GL_UNAVAILABLE otherwise, and
+/// GL_ERROR, the answer kept either way), and since that backend's answer for such a mesh
+/// has no CPU confirmation, the INTERSECTING flag is exact where the pair list is not (a
+/// pair within its rounding band gets closest points).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
@@ -931,8 +936,8 @@ pub unsafe extern "C" fn glcol_query_geometry(
 ///   answers OK the reads are complete (it waits for its one read-back, which comes after
 ///   them): the host may overwrite the buffer as soon as the call returns.
 /// - `glcol_mesh_update_positions` takes only a full update, which unbinds the buffer.
-/// - Contact geometry (`glcol_query_geometry`) needs CPU positions: UNSUPPORTED for
-///   contacts of a bound mesh.
+/// - Contact geometry (`glcol_query_geometry`) describes the positions the last query
+///   read (GL_COMPUTE reads them back from the GPU at that call, with the context current).
 /// - Accuracy: with positions only on the GPU the GL_COMPUTE answer is final (no CPU
 ///   confirmation): every intersecting pair, extras within max(epsilon, 2^-20 of the
 ///   largest extent) / 2 (plus 2^-40 of the local size).
@@ -941,7 +946,7 @@ pub unsafe extern "C" fn glcol_query_geometry(
 ///   that needs the mesh then reads the buffer back (glMemoryBarrier
 ///   (GL_BUFFER_UPDATE_BARRIER_BIT), then glGetBufferSubData): a sync point, which waits for
 ///   the GPU work writing the buffer; the answer is the CPU's, exact, for those positions
-///   (and contact geometry stays UNSUPPORTED for a bound mesh). The context current at the
+///   (and so is contact geometry). The context current at the
 ///   first bind becomes the scene's: from then on queries and `glcol_scene_destroy` need
 ///   it (or one sharing its objects), as on the GL backends.
 ///
