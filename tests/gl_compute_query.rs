@@ -378,6 +378,22 @@ fn geometry_of_a_bound_mesh_is_what_its_query_read() {
             checked.0 += 1;
             checked.1 += usize::from(!h.intersecting);
         }
+        // The whole-scene query likewise (blade = the lower mesh id: polygon a).
+        fill(&g, host, &frame[1]);
+        let pairs = s.query_all().unwrap().to_vec();
+        assert!(!pairs.is_empty() && pairs.iter().all(|p| p.mesh_a == blade));
+        fill(&g, host, &moved);
+        let got: Vec<ContactGeometry> = s.contact_geometry().unwrap().to_vec();
+        for (p, h) in pairs.iter().zip(&got) {
+            let a = triangle(&case.meshes[0], &frame[0], p.polygon_a);
+            let b = triangle(&case.meshes[1], &frame[1], p.polygon_b);
+            let want = contact_geometry(&a, 1, &b, 1);
+            assert_eq!(h.point_a, want.point_a, "frame {f}: {p:?}");
+            assert_eq!(
+                (h.normal, h.depth, h.intersecting),
+                (want.normal, want.depth, want.intersecting)
+            );
+        }
     }
     assert!(checked.0 > 20, "{checked:?}");
     s.release_gl();
