@@ -1851,16 +1851,27 @@ fn vertex_over_face(t: &Tri, u: &Tri, swapped: bool) -> Option<Closest> {
     // (`|e| |f|`), of the dot product below a few eps of its terms: FACE_SLACK (1e-12)
     // leaves a margin of thousands.
     let (e, f) = (u.v[1] - u.v[0], u.v[2] - u.v[0]);
-    let n_scale = n.abs().sum() + 6.0 * e.amax() * f.amax();
-    let mut h = [0.0; 3];
+    let ef = e.amax() * f.amax();
+    let n_scale = n.abs().sum() + 6.0 * ef;
+    let (mut h, mut wmax) = ([0.0; 3], 0.0f64);
     for (h, v) in h.iter_mut().zip(&t.v) {
         let w = v - u.v[0];
         *h = n.dot(&w);
+        wmax = wmax.max(w.amax());
         if h.abs() <= FACE_SLACK * n_scale * w.amax() {
             return None;
         }
     }
     if (h[0] > 0.0) != (h[1] > 0.0) || (h[1] > 0.0) != (h[2] > 0.0) {
+        return None;
+    }
+    // That rounding also turns `n` by up to a few eps of `|e| |f| / |n|`, which moves a
+    // vertex's distance by that times its lever `|w|`: on a sliver (`|n|` far below
+    // `|e| |f|`) far more than the full search's error (its edge pairs do not use `n`).
+    // Taken only where the turn moves it by a few eps of the pair's size: `u` not a
+    // sliver (sin of its angle above about 1/4 here), or the lever short.
+    let size = e.amax().max(f.amax()).max(wmax);
+    if ef * wmax > 4.0 * n.amax() * size {
         return None;
     }
     let mut k = 0;
@@ -1870,8 +1881,9 @@ fn vertex_over_face(t: &Tri, u: &Tri, swapped: bool) -> Option<Closest> {
         }
     }
     let (foot, d2) = over_face(&t.v[k], u)?;
-    // The feature's side, exactly (as `closest` requires of a vertex over a face).
-    if orient3d(&u.p[0], &u.p[1], &u.p[2], &t.p[k]) == 0.0 {
+    // The feature's side, exactly (as `closest` requires of a vertex over a face); and a
+    // finite distance (coordinates near the f64 range's end: the full search decides).
+    if !d2.is_finite() || orient3d(&u.p[0], &u.p[1], &u.p[2], &t.p[k]) == 0.0 {
         return None;
     }
     Some(if swapped {
@@ -3385,6 +3397,75 @@ mod tests {
             }
         }
         assert!(hits * 4 > cases, "{hits} of {cases}");
+        // Slivers given in f64 (a placed mesh's world positions, not rounded to f32): the
+        // rounding of a sliver's normal turns its plane by eps over its width, so the
+        // shortcut must not take a vertex over a sliver's face unless its lever is short;
+        // whenever it answers, the full search's distance. (A pair found in a review:
+        // the shortcut had answered it 3.8e7 eps off; reference 9.99999977648215e-3.)
+        let mut slivers = 0;
+        let mut tried = 0;
+        for &(o, s) in FRAMES.iter() {
+            let c = [o, 0.7 * o, -0.4 * o];
+            for i in 0..600 {
+                let (u0, u1) = (plus(&c, &r.v(s)), plus(&c, &r.v(s)));
+                let width = s * [1e-3, 1e-6, 1e-9][i % 3];
+                let side = r.v(1.0);
+                let u2 = [0, 1, 2].map(|k| u0[k] + (u1[k] - u0[k]) * 0.7 + side[k] * width);
+                // A triangle on one side of the sliver, its nearest vertex over the
+                // sliver's interior at 1e-2 of the size, the others farther (the review's
+                // pair's shape).
+                let d = local(&u1, &u0);
+                let up = unit(&d.cross(&V::new(side[0], side[1], side[2]))).unwrap();
+                let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
+                let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
+                let t = [
+                    at(1e-2 * s, [0.0; 3]),
+                    at(0.3 * s, r.v(s)),
+                    at(0.5 * s, r.v(s)),
+                ];
+                let (a, b) = (
+                    Polygon { t: [t, t], n: 1 },
+                    Polygon {
+                        t: [[u0, u1, u2]; 2],
+                        n: 1,
+                    },
+                );
+                let (a, b) = if i % 2 == 0 { (a, b) } else { (b, a) };
+                if meet(&a, &b) {
+                    continue;
+                }
+                tried += 1;
+                let o3 = a.t[0][0];
+                let (ta, tb) = (Tri::new(&a.t[0], &o3), Tri::new(&b.t[0], &o3));
+                let short =
+                    vertex_over_face(&ta, &tb, false).or_else(|| vertex_over_face(&tb, &ta, true));
+                if let Some(c) = short {
+                    let full = closest_search(&ta, &tb);
+                    let e = extent(&a, &b);
+                    assert!(
+                        (c.d2.sqrt() - full.d2.sqrt()).abs() <= 8.0 * EPS * (e + o.abs()),
+                        "{a:?} {b:?}: {} vs {}",
+                        c.d2.sqrt(),
+                        full.d2.sqrt()
+                    );
+                    slivers += 1;
+                }
+            }
+        }
+        // (It declines nearly all of them: its vertex is over the sliver's face.)
+        assert!(tried > 3000 && slivers < tried / 10, "{slivers} of {tried}");
+        let a = [
+            [10.145236234003264, -3.779050464868244, 2.83189447170406],
+            [10.413764037492902, -4.1052915769243485, 2.3961617531574735],
+            [10.51528265759951, -4.002821221684266, 2.8195922233804005],
+        ];
+        let b = [
+            [10.0, -4.0, 2.0],
+            [10.171717171717171, -3.7373737373737375, 2.9494949494949494],
+            [10.137176906555084, -3.790200023445166, 2.75850760577517],
+        ];
+        let g = contact_geometry(&[a, a], 1, &[b, b], 1);
+        assert!((-g.depth - 9.99999977648215e-3).abs() < 8.0 * EPS, "{g:?}");
         // A vertex exactly on the other's plane, the rest above it; and a triangle whose
         // nearest vertex is over the face at 0.3 but which crosses the plane just beyond
         // the face's edge (0.084 from it): declined (the full search decides).
