@@ -1092,7 +1092,8 @@ fn finish(l: &Local, o: &P3, home: &P3) -> ContactGeometry {
 struct Tri {
     p: [P3; 3],
     v: [V; 3],
-    /// `(v1 - v0) x (v2 - v0)`, not normalized.
+    /// `(p1 - p0) x (p2 - p0)`, not normalized, each component within 1.5 ulps of the
+    /// cross of those differences ([`accurate_cross`]).
     n: V,
     /// Exactly collinear (a segment or a point).
     flat: bool,
@@ -1105,7 +1106,7 @@ impl Tri {
         Tri {
             p: *p,
             v,
-            n: (v[1] - v[0]).cross(&(v[2] - v[0])),
+            n: accurate_cross(&local(&p[1], &p[0]), &local(&p[2], &p[0])),
             flat: collinear(&p[0], &p[1], &p[2]),
         }
     }
@@ -1122,6 +1123,29 @@ impl Tri {
             (2, 0)
         }
     }
+}
+
+/// `a b - c d` by Kahan's method: within 1.5 ulps (see [`accurate_cross`]).
+#[inline(always)]
+fn kahan(a: f64, b: f64, c: f64, d: f64) -> f64 {
+    let w = c * d;
+    let err = (-c).mul_add(d, w);
+    a.mul_add(b, -w) + err
+}
+
+/// `e x f` with each component `a b - c d` evaluated by Kahan's method (two fused
+/// multiply-adds): within 1.5 ulps of its exact value, however much the two products
+/// cancel. The plain cross is off by a few eps of `|e| |f|`, which on a sliver (`|n|` far
+/// below `|e| |f|`) turns its plane by eps over its width and moves a distance to it by
+/// that times the lever. (The differences of `f32` positions are exact, so the normal of
+/// such a triangle is then right to the ulp.)
+#[inline(always)]
+fn accurate_cross(e: &V, f: &V) -> V {
+    V::new(
+        kahan(e.y, f.z, e.z, f.y),
+        kahan(e.z, f.x, e.x, f.z),
+        kahan(e.x, f.y, e.y, f.x),
+    )
 }
 
 #[inline]
@@ -3466,6 +3490,60 @@ mod tests {
         ];
         let g = contact_geometry(&[a, a], 1, &[b, b], 1);
         assert!((-g.depth - 9.99999977648215e-3).abs() < 8.0 * EPS, "{g:?}");
+        // Slivers at f32 positions, off the origin, a vertex over their interior at 1e-3
+        // to 1e-7 of the size: the distances of the full search (the sliver's normal to
+        // the ulp: `accurate_cross`) against the double-double reference (`check`). (Its
+        // plain cross had put the review's pair below 5.9e4 eps off.)
+        let w = run("f32 slivers, vertex over the face", 16.0, |r, c, s| {
+            let (u0, u1) = (plus(c, &r.v(s)), plus(c, &r.v(s)));
+            let side = r.v(1.0);
+            let u2 = [0, 1, 2].map(|k| u0[k] + (u1[k] - u0[k]) * 0.7 + side[k] * s * 1e-5);
+            let b = Polygon::tri([u0, u1, u2]);
+            let [u0, u1, u2] = b.t[0];
+            let Some(up) = unit(&local(&u1, &u0).cross(&local(&u2, &u0))) else {
+                // Flat once rounded to f32 (far from the origin).
+                return Worst::default();
+            };
+            let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
+            let gap = s * [1e-3, 1e-5, 1e-7][(r.next() % 3) as usize];
+            let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
+            let a = Polygon::tri([at(gap, [0.0; 3]), at(0.3 * s, r.v(s)), at(0.5 * s, r.v(s))]);
+            if meet(&a, &b) {
+                return Worst::default();
+            }
+            check(&a, &b, true)
+        });
+        assert!(w.cases > 1000);
+        let (a, b) = (
+            Polygon::tri([
+                [
+                    -0.45679670572280884,
+                    -0.456404447555542,
+                    -0.06319279223680496,
+                ],
+                [-0.790017306804657, -0.6577766537666321, 0.092563696205616],
+                [
+                    0.08552992343902588,
+                    -0.5739572644233704,
+                    -0.2628408372402191,
+                ],
+            ]),
+            Polygon::tri([
+                [
+                    0.01438096072524786,
+                    -0.15112130343914032,
+                    -0.2996201813220978,
+                ],
+                [-0.75848788022995, -0.6519943475723267, 0.08999492973089218],
+                [
+                    -0.5492968559265137,
+                    -0.5164228081703186,
+                    -0.015461691655218601,
+                ],
+            ]),
+        );
+        let g = geometry(&a, &b);
+        assert!((-g.depth - 9.999989339757912e-4).abs() < 4.0 * EPS, "{g:?}");
         // A vertex exactly on the other's plane, the rest above it; and a triangle whose
         // nearest vertex is over the face at 0.3 but which crosses the plane just beyond
         // the face's edge (0.084 from it): declined (the full search decides).
