@@ -533,7 +533,7 @@ std::array<double, 3> unit(std::array<double, 3> a) {
 }
 
 // The base configurations (unit size, at the origin); the families scale and offset them.
-enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NKIND };
+enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER, NKIND };
 std::pair<T3, T3> make(Gen &G, Kind k, int i) {
     switch (k) {
     case RANDOM: {
@@ -612,6 +612,28 @@ std::pair<T3, T3> make(Gen &G, Kind k, int i) {
         }
         return {a, {{b0, b1, b2}}};
     }
+    case NEAR_SLIVER: {
+        // a: one side 1e-6 .. 1e-3 thin; b's vertex h = 1e-3 .. 1e-7 above a's interior, its
+        // other vertices farther on the same side (the closest points: that vertex and its
+        // foot on the sliver, whose plane a naive normal tilts by eps over its width).
+        auto p0 = G.p(1), p1 = G.p(1);
+        double w = std::pow(10.0, G.u(-6, -3));
+        auto off = unit(cross(sub(p1, p0), G.p(1)));
+        std::array<double, 3> p2;
+        for (int k = 0; k < 3; k++) p2[k] = float(p0[k] + 0.7 * (p1[k] - p0[k]) + w * off[k]);
+        T3 a = {{p0, p1, p2}};
+        auto n = unit(cross(sub(a[1], a[0]), sub(a[2], a[0])));
+        double h = std::pow(10.0, G.u(-7, -3));
+        std::array<double, 3> q;
+        for (int k = 0; k < 3; k++) q[k] = 0.15 * a[0][k] + 0.45 * a[1][k] + 0.4 * a[2][k] + h * n[k];
+        auto up = [&](double s) {
+            auto r = G.p(0.7);
+            return std::array<double, 3>{q[0] + r[0] + s * n[0], q[1] + r[1] + s * n[1], q[2] + r[2] + s * n[2]};
+        };
+        T3 b = {{q, up(0.3), up(0.5)}};
+        if (i % 2) std::swap(a, b);
+        return {a, b};
+    }
     default: {
         // Degenerate: segments (a repeated vertex or a collinear third), points.
         T3 a = G.tri(1), b = G.tri(1);
@@ -638,7 +660,9 @@ std::pair<T3, T3> make(Gen &G, Kind k, int i) {
     }
     }
 }
-const char *kind_name[NKIND] = {"random", "coplanar", "touching", "slivers", "near 1e-3..1e-7", "degenerate"};
+const char *kind_name[NKIND] = {"random",          "coplanar",   "touching",
+                                "slivers",         "near 1e-3..1e-7", "degenerate",
+                                "sliver, vertex 1e-3..1e-7 above"};
 
 // One family: every base kind at a scale and offset, through one scene of two one-triangle
 // meshes (updated per pair), glcol_query then glcol_query_geometry.
@@ -788,13 +812,13 @@ int main(int argc, char **argv) {
             double scale, offset;
             std::vector<Kind> kinds;
         };
-        std::vector<Kind> every = {RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE};
+        std::vector<Kind> every = {RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER};
         std::vector<Fam> fams = {
             {"", 1, 0, every},
             {", offset 1e3", 1, 1e3, every},
-            {", offset 1e5", 1, 1e5, {RANDOM, SLIVER, NEAR, DEGENERATE}},
-            {", scale 1e-4", 1e-4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE}},
-            {", scale 1e4", 1e4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE}},
+            {", offset 1e5", 1, 1e5, {RANDOM, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}},
+            {", scale 1e-4", 1e-4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}},
+            {", scale 1e4", 1e4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}},
         };
         uint64_t seed = 1;
         for (auto &F : fams)
