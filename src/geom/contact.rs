@@ -705,7 +705,7 @@ impl Face {
             f,
             // To the ulp, even on a sliver (its plane turned by eps over its width would
             // move a depth or a distance by that times its lever).
-            n: accurate_cross(&e, &f),
+            n: triangle_normal(t),
             perm: V::new(
                 (e.y * f.z).abs() + (e.z * f.y).abs(),
                 (e.z * f.x).abs() + (e.x * f.z).abs(),
@@ -1094,8 +1094,8 @@ fn finish(l: &Local, o: &P3, home: &P3) -> ContactGeometry {
 struct Tri {
     p: [P3; 3],
     v: [V; 3],
-    /// `(p1 - p0) x (p2 - p0)`, not normalized, each component within 1.5 ulps of the
-    /// cross of those differences ([`accurate_cross`]).
+    /// `(p1 - p0) x (p2 - p0)`, not normalized, to about an ulp of each component
+    /// ([`triangle_normal`]).
     n: V,
     /// Exactly collinear (a segment or a point).
     flat: bool,
@@ -1108,7 +1108,7 @@ impl Tri {
         Tri {
             p: *p,
             v,
-            n: accurate_cross(&local(&p[1], &p[0]), &local(&p[2], &p[0])),
+            n: triangle_normal(&p.map(|q| V::new(q[0], q[1], q[2]))),
             flat: collinear(&p[0], &p[1], &p[2]),
         }
     }
@@ -1147,6 +1147,33 @@ fn accurate_cross(e: &V, f: &V) -> V {
         kahan(e.y, f.z, e.z, f.y),
         kahan(e.z, f.x, e.x, f.z),
         kahan(e.x, f.y, e.y, f.x),
+    )
+}
+
+/// The normal `(t1 - t0) x (t2 - t0)` of the exact differences: [`accurate_cross`] of the
+/// rounded ones plus, to first order, what their rounding left out (zero for `f32`
+/// positions, whose differences are exact; for `f64` ones, a placed mesh's, the rounding
+/// of an edge would turn a sliver's plane by eps over its width all the same).
+#[inline(always)]
+fn triangle_normal(t: &[V; 3]) -> V {
+    let (e, f) = (t[1] - t[0], t[2] - t[0]);
+    let lost = |a: &V, b: &V| {
+        V::new(
+            two_sum(a.x, -b.x).1,
+            two_sum(a.y, -b.y).1,
+            two_sum(a.z, -b.z).1,
+        )
+    };
+    let (el, fl) = (lost(&t[1], &t[0]), lost(&t[2], &t[0]));
+    let n = accurate_cross(&e, &f);
+    if el == V::zeros() && fl == V::zeros() {
+        // Exact differences (f32 positions, the common case).
+        return n;
+    }
+    V::new(
+        n.x + ((e.y * fl.z + el.y * f.z) - (e.z * fl.y + el.z * f.y)),
+        n.y + ((e.z * fl.x + el.z * f.x) - (e.x * fl.z + el.x * f.z)),
+        n.z + ((e.x * fl.y + el.x * f.y) - (e.y * fl.x + el.y * f.x)),
     )
 }
 
@@ -1406,7 +1433,9 @@ fn piece<const N: usize>(t: &Tri, u: &Tri, signs: &Signs, origin_mag: f64, out: 
         return;
     }
     // Signed distances to the other's plane, with the exact signs (d = -orient3d).
-    let (ft, fu) = (Face::of(&t.v), Face::of(&u.v));
+    // (Their normals from the positions themselves, not the rounded local ones.)
+    let (mut ft, mut fu) = (Face::of(&t.v), Face::of(&u.v));
+    (ft.n, fu.n) = (t.n, u.n);
     let (dt, _, scale_t) = fu.sides(&t.v);
     let (du, _, scale_u) = ft.sides(&u.v);
     let (dt, du) = (signed_like(dt, st), signed_like(du, su));
@@ -3571,6 +3600,63 @@ mod tests {
         );
         let g = geometry(&a, &b);
         assert!((-g.depth - 9.999989339757912e-4).abs() < 4.0 * EPS, "{g:?}");
+    }
+
+    /// The same at f64 positions (a placed mesh's world positions, not rounded to f32),
+    /// where the edges' differences round too (`triangle_normal` adds back what they leave
+    /// out): band pairs against the reference (its exact differences need f32 positions
+    /// for a depth), and crossing and band pairs through the four lanes bit for bit the
+    /// one-pair answer.
+    #[test]
+    fn f64_slivers_with_a_vertex_over_them() {
+        let mut pairs = Vec::new();
+        let w = run("f64 slivers, vertex over the face", 16.0, |r, c, s| {
+            let (u0, u1) = (plus(c, &r.v(s)), plus(c, &r.v(s)));
+            let side = r.v(1.0);
+            let width = s * [1e-4, 1e-6][(r.next() % 2) as usize];
+            let u2 = [0, 1, 2].map(|k| u0[k] + (u1[k] - u0[k]) * 0.7 + side[k] * width);
+            let Some(up) = unit(&local(&u1, &u0).cross(&local(&u2, &u0))) else {
+                return Worst::default();
+            };
+            let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
+            let sign = if r.next() % 2 == 0 { 1.0 } else { -1.0 };
+            let gap = sign * s * [1e-3, 1e-5, 1e-7][(r.next() % 3) as usize];
+            let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
+            // The other vertices sideways (along the plane) and higher: wholly above when
+            // the near vertex is.
+            let side_of = |r: &mut Rng| {
+                let v = r.v(s);
+                let d = v[0] * up.x + v[1] * up.y + v[2] * up.z;
+                [v[0] - d * up.x, v[1] - d * up.y, v[2] - d * up.z]
+            };
+            let (l1, l2) = (side_of(r), side_of(r));
+            let t = [at(gap, [0.0; 3]), at(0.3 * s, l1), at(0.5 * s, l2)];
+            let (a, b) = (
+                Polygon { t: [t, t], n: 1 },
+                Polygon {
+                    t: [[u0, u1, u2]; 2],
+                    n: 1,
+                },
+            );
+            let (a, b) = if r.next() % 2 == 0 { (a, b) } else { (b, a) };
+            pairs.push((a, b));
+            // (The references take exact differences: f32 positions. A crossing pair is
+            // compared with the lanes only, below.)
+            if gap < 0.0 {
+                return Worst::default();
+            }
+            check(&a, &b, true)
+        });
+        assert!(w.cases > 1000);
+        #[cfg(target_arch = "x86_64")]
+        {
+            let mut out: Vec<ContactGeometry> = pairs.iter().map(|(a, b)| geometry(a, b)).collect();
+            let want = out.clone();
+            both_kernels(&mut out, false, fetch_from(&pairs)).unwrap();
+            for (g, h) in out.iter().zip(&want) {
+                assert_eq!(bits(g), bits(h), "{g:?} {h:?}");
+            }
+        }
     }
 
     /// Shallow crossings: b crosses a's plane at dihedral angles down to 1e-6 (the

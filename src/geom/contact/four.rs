@@ -128,19 +128,47 @@ impl Plane {
     }
 }
 
-/// A triangle's plane with its normal as the scalar `Face::of` makes it: each component
-/// `a b - c d` by Kahan's method (the scalar `kahan`, operation for operation), within 1.5
-/// ulps however much the products cancel (a sliver's plane is right to the ulp).
+/// A triangle's plane with its normal as the scalar `Face::of` makes it
+/// (`triangle_normal`, operation for operation): each component `a b - c d` by Kahan's
+/// method, within 1.5 ulps however much the products cancel, plus the first-order part of
+/// the edges' rounding (a sliver's plane is right to about the ulp).
 #[inline(always)]
 fn face(t: &[W; 3]) -> Face {
     let mut p = Plane::of(t);
     let (e, f) = (&p.e, &p.f);
-    p.n = W {
+    let n = W {
         x: kahan(e.y, f.z, e.z, f.y),
         y: kahan(e.z, f.x, e.x, f.z),
         z: kahan(e.x, f.y, e.y, f.x),
     };
+    // What the edges' rounding left out, to first order, in the lanes where it left out
+    // anything (the scalar `triangle_normal`; none for f32 positions, the common case).
+    let (el, fl) = (lost(&t[1], &t[0]), lost(&t[2], &t[0]));
+    let zero = n.x.like(0.0);
+    // (No closures here: see the module's note.)
+    let exact = (el.x.eq(zero).and(el.y.eq(zero)).and(el.z.eq(zero)))
+        .and(fl.x.eq(zero).and(fl.y.eq(zero)).and(fl.z.eq(zero)));
+    p.n = if exact.bits() == 0b1111 {
+        n
+    } else {
+        let c = W {
+            x: n.x + ((e.y * fl.z + el.y * f.z) - (e.z * fl.y + el.z * f.y)),
+            y: n.y + ((e.z * fl.x + el.z * f.x) - (e.x * fl.z + el.x * f.z)),
+            z: n.z + ((e.x * fl.y + el.x * f.y) - (e.y * fl.x + el.y * f.x)),
+        };
+        exact.selw(&n, &c)
+    };
     p
+}
+
+/// The rounding error of `a - b`, per component (the scalar `two_sum(a, -b).1`).
+#[inline(always)]
+fn lost(a: &W, b: &W) -> W {
+    W {
+        x: two_sum(a.x, -b.x).1,
+        y: two_sum(a.y, -b.y).1,
+        z: two_sum(a.z, -b.z).1,
+    }
 }
 
 /// `a b - c d` by Kahan's method (the scalar `kahan`).
