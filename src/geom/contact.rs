@@ -3538,6 +3538,48 @@ mod tests {
         assert!(near < 0.09, "{near}");
     }
 
+    /// A sliver `b` of `width` (its positions rounded to f32 or not) about `c`, and a
+    /// triangle `a` with a vertex `gap` (1e-3 to 1e-7 of `s`, either side) off the sliver's
+    /// interior and its others sideways and farther up (wholly above when that vertex is);
+    /// `a` and `b` swapped at random. `None` when the sliver is flat.
+    fn sliver_under_vertex(
+        r: &mut Rng,
+        c: &P3,
+        s: f64,
+        width: f64,
+        f32_positions: bool,
+    ) -> Option<(Polygon, Polygon, f64)> {
+        let (u0, u1) = (plus(c, &r.v(s)), plus(c, &r.v(s)));
+        let side = r.v(1.0);
+        let u2 = [0, 1, 2].map(|k| u0[k] + (u1[k] - u0[k]) * 0.7 + side[k] * width);
+        let tri = |t: [P3; 3]| {
+            if f32_positions {
+                Polygon::tri(t)
+            } else {
+                Polygon { t: [t, t], n: 1 }
+            }
+        };
+        let b = tri([u0, u1, u2]);
+        let [u0, u1, u2] = b.t[0];
+        let up = unit(&local(&u1, &u0).cross(&local(&u2, &u0)))?;
+        let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
+        let sign = if r.next() % 2 == 0 { 1.0 } else { -1.0 };
+        let gap = sign * s * [1e-3, 1e-5, 1e-7][(r.next() % 3) as usize];
+        let mut sideways = || {
+            let v = r.v(s);
+            let d = v[0] * up.x + v[1] * up.y + v[2] * up.z;
+            [v[0] - d * up.x, v[1] - d * up.y, v[2] - d * up.z]
+        };
+        let (l1, l2) = (sideways(), sideways());
+        let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
+        let a = tri([at(gap, [0.0; 3]), at(0.3 * s, l1), at(0.5 * s, l2)]);
+        Some(if r.next() % 2 == 0 {
+            (a, b, gap)
+        } else {
+            (b, a, gap)
+        })
+    }
+
     /// Slivers (f32 positions, off the origin) with a vertex of the other triangle 1e-3 to
     /// 1e-7 of the size above their interior or through it: the distances and depths of
     /// both paths against the double-double reference, at every scale and offset. A
@@ -3551,23 +3593,11 @@ mod tests {
         // ulp: `accurate_cross`) against the double-double reference (`check`). (The plain
         // cross had put the review's pair 5.9e4 eps off.)
         let w = run("f32 slivers, vertex over the face", 16.0, |r, c, s| {
-            let (u0, u1) = (plus(c, &r.v(s)), plus(c, &r.v(s)));
-            let side = r.v(1.0);
-            let u2 = [0, 1, 2].map(|k| u0[k] + (u1[k] - u0[k]) * 0.7 + side[k] * s * 1e-5);
-            let b = Polygon::tri([u0, u1, u2]);
-            let [u0, u1, u2] = b.t[0];
-            let Some(up) = unit(&local(&u1, &u0).cross(&local(&u2, &u0))) else {
+            match sliver_under_vertex(r, c, s, s * 1e-5, true) {
+                Some((a, b, _)) => check(&a, &b, true),
                 // Flat once rounded to f32 (far from the origin).
-                return Worst::default();
-            };
-            let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
-            // Above (a band pair) or through (a crossing: the depth along the sliver's
-            // normal).
-            let sign = if r.next() % 2 == 0 { 1.0 } else { -1.0 };
-            let gap = sign * s * [1e-3, 1e-5, 1e-7][(r.next() % 3) as usize];
-            let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
-            let a = Polygon::tri([at(gap, [0.0; 3]), at(0.3 * s, r.v(s)), at(0.5 * s, r.v(s))]);
-            check(&a, &b, true)
+                None => Worst::default(),
+            }
         });
         assert!(w.cases > 2000);
         let (a, b) = (
@@ -3611,34 +3641,10 @@ mod tests {
     fn f64_slivers_with_a_vertex_over_them() {
         let mut pairs = Vec::new();
         let w = run("f64 slivers, vertex over the face", 16.0, |r, c, s| {
-            let (u0, u1) = (plus(c, &r.v(s)), plus(c, &r.v(s)));
-            let side = r.v(1.0);
             let width = s * [1e-4, 1e-6][(r.next() % 2) as usize];
-            let u2 = [0, 1, 2].map(|k| u0[k] + (u1[k] - u0[k]) * 0.7 + side[k] * width);
-            let Some(up) = unit(&local(&u1, &u0).cross(&local(&u2, &u0))) else {
+            let Some((a, b, gap)) = sliver_under_vertex(r, c, s, width, false) else {
                 return Worst::default();
             };
-            let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
-            let sign = if r.next() % 2 == 0 { 1.0 } else { -1.0 };
-            let gap = sign * s * [1e-3, 1e-5, 1e-7][(r.next() % 3) as usize];
-            let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
-            // The other vertices sideways (along the plane) and higher: wholly above when
-            // the near vertex is.
-            let side_of = |r: &mut Rng| {
-                let v = r.v(s);
-                let d = v[0] * up.x + v[1] * up.y + v[2] * up.z;
-                [v[0] - d * up.x, v[1] - d * up.y, v[2] - d * up.z]
-            };
-            let (l1, l2) = (side_of(r), side_of(r));
-            let t = [at(gap, [0.0; 3]), at(0.3 * s, l1), at(0.5 * s, l2)];
-            let (a, b) = (
-                Polygon { t: [t, t], n: 1 },
-                Polygon {
-                    t: [[u0, u1, u2]; 2],
-                    n: 1,
-                },
-            );
-            let (a, b) = if r.next() % 2 == 0 { (a, b) } else { (b, a) };
             pairs.push((a, b));
             // (The references take exact differences: f32 positions. A crossing pair is
             // compared with the lanes only, below.)
