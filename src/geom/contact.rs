@@ -3563,7 +3563,11 @@ mod tests {
         let [u0, u1, u2] = b.t[0];
         let up = unit(&local(&u1, &u0).cross(&local(&u2, &u0)))?;
         let x = combo(&[u0, u1, u2], &[0.15, 0.45, 0.4]);
-        let sign = if r.next() % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = if r.next().is_multiple_of(2) {
+            1.0
+        } else {
+            -1.0
+        };
         let gap = sign * s * [1e-3, 1e-5, 1e-7][(r.next() % 3) as usize];
         let mut sideways = || {
             let v = r.v(s);
@@ -3573,7 +3577,7 @@ mod tests {
         let (l1, l2) = (sideways(), sideways());
         let at = |h: f64, lat: P3| [0, 1, 2].map(|k| x[k] + up[k] * h + lat[k]);
         let a = tri([at(gap, [0.0; 3]), at(0.3 * s, l1), at(0.5 * s, l2)]);
-        Some(if r.next() % 2 == 0 {
+        Some(if r.next().is_multiple_of(2) {
             (a, b, gap)
         } else {
             (b, a, gap)
