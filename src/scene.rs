@@ -532,6 +532,24 @@ impl Scene {
         let selfs: Vec<u32> = (0..list.len() as u32)
             .filter(|&i| list[i as usize].self_collision)
             .collect();
+        // Self-collision runs on the CPU, from the mesh's CPU positions: a GL backend does
+        // not have those of a mesh read from a host buffer (a CPU scene reads the buffer in
+        // at each query).
+        if !on_cpu {
+            if let Some(&i) = selfs
+                .iter()
+                .find(|&&i| self.selector.gl_bound(list[i as usize].id))
+            {
+                self.workspace.stats.readbacks = self.selector.take_readbacks();
+                return Err(Error::new(
+                    ErrorKind::Unsupported,
+                    format!(
+                        "mesh {} reads its positions from a GL buffer and has self-collision                          on, which runs on the CPU from positions this backend keeps on the                          GPU: turn its self-collision off, or give it its positions with                          glcol_mesh_update_positions",
+                        list[i as usize].id
+                    ),
+                ));
+            }
+        }
         if self.self_preps.len() < selfs.len() {
             self.self_preps.resize_with(selfs.len(), SelfPrep::default);
         }

@@ -401,6 +401,42 @@ fn geometry_of_a_bound_mesh_is_what_its_query_read() {
     unsafe { g.delete_buffer(host) };
 }
 
+/// Self-collision of a mesh read from a host buffer runs on the CPU, which GL_COMPUTE
+/// leaves without its positions: `query_all` refuses it (UNSUPPORTED naming the mesh), and
+/// answers once it is off, with contact geometry read back for the mesh.
+#[test]
+fn self_collision_of_a_bound_mesh_is_refused() {
+    use glow::HasContext;
+    let ctx = Ctx::new(Profile::Core);
+    let g = ctx.glow();
+    let case = instrument_case();
+    let mut s = gl_scene(SceneConfig::default(), Path::Whole);
+    let blade = add(&mut s, &case.meshes[0]);
+    let organ = add(&mut s, &case.meshes[1]);
+    let frame = &case.frames[1];
+    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
+        .unwrap();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    let host = unsafe { g.create_buffer().unwrap() };
+    fill(&g, host, &frame[1]);
+    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    s.set_self_collision(organ, true).unwrap();
+    let e = s.query_all().unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported, "{}", e.message);
+    assert!(
+        e.message.contains(&format!("mesh {organ}")) && e.message.contains("self-collision"),
+        "{}",
+        e.message
+    );
+    s.set_self_collision(organ, false).unwrap();
+    let n = s.query_all().unwrap().len();
+    assert!(n > 0);
+    assert_eq!(s.contact_geometry().unwrap().len(), n);
+    s.release_gl();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    unsafe { g.delete_buffer(host) };
+}
+
 fn gl_scene_with(config: SceneConfig, f: impl FnOnce(&mut GlComputeSelector)) -> Scene {
     // SAFETY: a context is current on this thread (made by the caller); the loader serves it.
     let gl = unsafe { Gl::load(get_proc_address, std::ptr::null_mut()) }.expect("GL loads");

@@ -188,6 +188,9 @@ struct Compute {
     obj: Option<Objects>,
     slots: BTreeMap<u32, Slot>,
     bound: BTreeMap<u32, Bound>,
+    /// Bound meshes whose positions the last query gathered into the arena (what contact
+    /// geometry reads back); emptied by each `prepare` and by `distrust`.
+    gathered: std::collections::BTreeSet<u32>,
     caps: Caps,
     /// GL_MAX_SHADER_STORAGE_BLOCK_SIZE, bytes.
     max_block: u64,
@@ -406,6 +409,7 @@ impl GlComputeSelector {
                 obj: None,
                 slots: BTreeMap::new(),
                 bound: BTreeMap::new(),
+                gathered: std::collections::BTreeSet::new(),
                 caps: Caps::default(),
                 max_block,
                 readbacks: 0,
@@ -584,6 +588,7 @@ impl Compute {
     /// Forgets what the GL buffers were last known to hold.
     fn distrust(&mut self) {
         self.slots.clear();
+        self.gathered.clear();
         self.sized = None;
     }
 
@@ -596,11 +601,12 @@ impl Compute {
     /// contact geometry needs (the host may have written its buffer since). A sync point.
     fn read_gathered(&mut self, gl: &Gl, id: u32, m: &mut Mesh) -> Result<()> {
         let n = m.slot_positions().len();
-        let Some(s) = self.slots.get(&id).filter(|s| s.vertices as usize == n) else {
-            return Err(Error::new(
-                ErrorKind::Internal,
-                format!("mesh {id} has no positions on the GPU from the last query"),
-            ));
+        let slot = self.slots.get(&id).filter(|s| s.vertices as usize == n);
+        let Some(s) = slot.filter(|_| self.gathered.contains(&id)) else {
+            // (A GL error since the query dropped the GPU's copy.)
+            return Err(Error::invalid(format!(
+                "mesh {id} reads its positions from a GL buffer, and the GPU no longer holds                  those the last query gathered (a GL error since?): query again for its                  contact geometry"
+            )));
         };
         let at = gl_bytes(s.vertex_base.into(), 12, "the positions")?;
         let len = gl_bytes(n as u64, 12, "the positions")?;
@@ -643,6 +649,7 @@ impl Compute {
     /// gathered by the query that uses them, whose read-back then waits for the gather: a
     /// call that answers has finished reading them.)
     fn prepare(&mut self, gl: &Gl, meshes: &BTreeMap<u32, Mesh>) -> Result<()> {
+        self.gathered.clear();
         self.check_bound(gl, meshes)?;
         if !self.layout_matches(meshes) {
             self.rebuild(gl, meshes)?;
@@ -780,6 +787,11 @@ impl Compute {
     ) -> Result<()> {
         let t0 = std::time::Instant::now();
         self.gather_bound(gl, q)?;
+        for &(id, _) in q.meshes.iter() {
+            if self.bound.contains_key(&id) {
+                self.gathered.insert(id);
+            }
+        }
         let plan = self.plan(q)?;
         let raw = self.run_until_room(gl, &plan)?;
         stats.tests = [

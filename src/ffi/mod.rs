@@ -937,7 +937,11 @@ pub unsafe extern "C" fn glcol_query_geometry(
 ///   them): the host may overwrite the buffer as soon as the call returns.
 /// - `glcol_mesh_update_positions` takes only a full update, which unbinds the buffer.
 /// - Contact geometry (`glcol_query_geometry`) describes the positions the last query
-///   read (GL_COMPUTE reads them back from the GPU at that call, with the context current).
+///   read (GL_COMPUTE reads them back from the GPU at that call, with the context current;
+///   after a GL error since the query: INVALID_ARGUMENT, query again).
+/// - Self-collision (`glcol_mesh_set_self_collision`) of a bound mesh runs on the CPU, from
+///   positions GL_COMPUTE keeps on the GPU: `glcol_query_all` answers UNSUPPORTED naming
+///   the mesh (a CPU scene, which reads the buffer in, answers it).
 /// - Accuracy: with positions only on the GPU the GL_COMPUTE answer is final (no CPU
 ///   confirmation): every intersecting pair, extras within max(epsilon, 2^-20 of the
 ///   largest extent) / 2 (plus 2^-40 of the local size).
