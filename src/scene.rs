@@ -10,7 +10,7 @@ use std::time::Instant;
 use crate::backend::{Backend, CpuSelector, LeafPairs, Pair, QueryMeshes, Selector};
 use crate::error::{try_reserve, Error, ErrorKind, Result};
 use crate::geom::contact::{contact_geometry_into, ContactGeometry, PolygonPairs};
-use crate::geom::P3;
+use crate::geom::{Aabb, P3};
 use crate::mesh::{Mesh, Positions};
 use crate::query::all::{self as whole, AllStats, BroadPhase, SceneMesh, SelfPrep, SelfScratch};
 use crate::query::{self, Contact, QueryStats, Workspace};
@@ -466,6 +466,8 @@ impl Scene {
         self.all_stats = AllStats::default();
         self.start_workers()?;
         let h = f64::from(self.config.epsilon) / 2.0;
+        let on_gpu = self.selector.backend() != Backend::Cpu;
+        let selector = &self.selector;
         let list: Vec<SceneMesh<'_>> = self
             .meshes
             .iter()
@@ -473,6 +475,13 @@ impl Scene {
             .map(|(&id, m)| SceneMesh {
                 id,
                 mesh: m,
+                // A mesh read from a host buffer on the GPU has no current box on the CPU:
+                // paired with every mesh here, culled by the backend.
+                root: if on_gpu && selector.gl_bound(id) {
+                    Aabb::EVERYTHING
+                } else {
+                    m.root()
+                },
                 self_collision: m.self_collision,
                 group: m.group,
                 mask: m.mask,

@@ -437,6 +437,52 @@ fn self_collision_of_a_bound_mesh_is_refused() {
     unsafe { g.delete_buffer(host) };
 }
 
+/// A mesh bound to a host buffer after being created at placeholder positions far away:
+/// `query_all` finds its pairs as `query` does (the whole-scene broad phase cannot use its
+/// CPU box, which is the placeholders'), and their geometry is read back.
+#[test]
+fn query_all_finds_a_bound_mesh_created_elsewhere() {
+    use glow::HasContext;
+    let ctx = Ctx::new(Profile::Core);
+    let g = ctx.glow();
+    let case = instrument_case();
+    let mut s = gl_scene(SceneConfig::default(), Path::Whole);
+    let frame = &case.frames[1];
+    let blade = add(&mut s, &case.meshes[0]);
+    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
+        .unwrap();
+    let far: Vec<[f32; 3]> = frame[1].iter().map(|p| [p[0] + 1e4, p[1], p[2]]).collect();
+    let organ = s
+        .create_mesh(Positions::from_points(&far), &case.meshes[1].idx, 3)
+        .unwrap();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    let host = unsafe { g.create_buffer().unwrap() };
+    fill(&g, host, &frame[1]);
+    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    let one: Vec<(u32, u32)> = s
+        .query(blade)
+        .unwrap()
+        .iter()
+        .map(|c| (c.reference_polygon, c.other_polygon))
+        .collect();
+    assert!(!one.is_empty());
+    let all: Vec<(u32, u32)> = s
+        .query_all()
+        .unwrap()
+        .iter()
+        .map(|p| (p.polygon_a, p.polygon_b))
+        .collect();
+    assert_eq!(all, one);
+    let geo = s.contact_geometry().unwrap();
+    assert!(
+        geo.iter().all(|g| g.point_a[0] < 1e3),
+        "placeholder positions read"
+    );
+    s.release_gl();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    unsafe { g.delete_buffer(host) };
+}
+
 fn gl_scene_with(config: SceneConfig, f: impl FnOnce(&mut GlComputeSelector)) -> Scene {
     // SAFETY: a context is current on this thread (made by the caller); the loader serves it.
     let gl = unsafe { Gl::load(get_proc_address, std::ptr::null_mut()) }.expect("GL loads");

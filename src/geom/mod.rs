@@ -37,6 +37,12 @@ impl Default for Aabb {
 }
 
 impl Aabb {
+    /// Every finite point.
+    pub const EVERYTHING: Aabb = Aabb {
+        min: [-f32::MAX; 3],
+        max: [f32::MAX; 3],
+    };
+
     /// The empty box (min = +inf, max = -inf); growing it by a point gives that point.
     pub const EMPTY: Aabb = Aabb {
         min: [f32::INFINITY; 3],

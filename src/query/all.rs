@@ -33,6 +33,10 @@ pub struct SceneMesh<'a> {
     pub id: u32,
     /// Its geometry.
     pub mesh: &'a Mesh,
+    /// Its root box for the broad phase: `mesh.root()`, or every point for a mesh whose
+    /// positions the backend reads from a host GL buffer on the GPU (its CPU boxes are
+    /// stale; the backend's own query culls).
+    pub root: crate::geom::Aabb,
     /// Collide it with itself.
     pub self_collision: bool,
     /// Filter group bits.
@@ -66,7 +70,7 @@ pub fn mesh_pairs(
 ) {
     out.clear();
     bp.roots.clear();
-    bp.roots.extend(meshes.iter().map(|m| m.mesh.root()));
+    bp.roots.extend(meshes.iter().map(|m| m.root));
     bp.grown.clear();
     bp.grown.extend(bp.roots.iter().map(|r| r.grown(h)));
     bp.found.clear();
