@@ -203,6 +203,34 @@ fn fill(g: &glow::Context, host: glow::NativeBuffer, p: &[[f32; 3]]) {
     }
 }
 
+/// A GL_COMPUTE scene (a leaf a polygon, `epsilon`) with `case`'s blade at frame `f`'s
+/// positions and its organ read from a new host buffer holding frame `f`'s: (scene, blade,
+/// organ, the buffer).
+fn blade_and_bound_organ(
+    g: &glow::Context,
+    case: &Case,
+    epsilon: f32,
+    f: usize,
+) -> (Scene, MeshId, MeshId, glow::NativeBuffer) {
+    use glow::HasContext;
+    let config = SceneConfig {
+        epsilon,
+        max_polygons_per_box: 0,
+        ..SceneConfig::default()
+    };
+    let mut s = gl_scene(config, Path::Whole);
+    let blade = add(&mut s, &case.meshes[0]);
+    let organ = add(&mut s, &case.meshes[1]);
+    let frame = &case.frames[f];
+    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
+        .unwrap();
+    // SAFETY: this test's GL context is current on this thread; the objects are its own.
+    let host = unsafe { g.create_buffer().unwrap() };
+    fill(g, host, &frame[1]);
+    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    (s, blade, organ, host)
+}
+
 /// A host buffer with a NaN: NON_FINITE, then the next good frame is answered in full.
 #[test]
 fn nan_in_a_host_buffer() {
@@ -277,21 +305,8 @@ fn a_failed_query_keeps_the_last_contacts() {
     let ctx = Ctx::new(Profile::Core);
     let g = ctx.glow();
     let case = instrument_case();
-    let config = SceneConfig {
-        epsilon: 0.001,
-        max_polygons_per_box: 0,
-        ..SceneConfig::default()
-    };
-    let mut s = gl_scene(config, Path::Whole);
-    let blade = add(&mut s, &case.meshes[0]);
-    let organ = add(&mut s, &case.meshes[1]);
     let frame = &case.frames[1];
-    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
-        .unwrap();
-    // SAFETY: this test's GL context is current on this thread; the objects are its own.
-    let host = unsafe { g.create_buffer().unwrap() };
-    fill(&g, host, &frame[1]);
-    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    let (mut s, blade, _, host) = blade_and_bound_organ(&g, &case, 0.001, 1);
     let good: Vec<Contact> = s.query(blade).unwrap().to_vec();
     assert!(!good.is_empty(), "the scene should collide");
     assert_eq!(s.contacts(), &good[..]);
@@ -331,18 +346,7 @@ fn geometry_of_a_bound_mesh_is_what_its_query_read() {
     let ctx = Ctx::new(Profile::Core);
     let g = ctx.glow();
     let case = instrument_case();
-    let config = SceneConfig {
-        epsilon: 0.0,
-        max_polygons_per_box: 0,
-        ..SceneConfig::default()
-    };
-    let mut s = gl_scene(config, Path::Whole);
-    let blade = add(&mut s, &case.meshes[0]);
-    let organ = add(&mut s, &case.meshes[1]);
-    // SAFETY: this test's GL context is current on this thread; the objects are its own.
-    let host = unsafe { g.create_buffer().unwrap() };
-    fill(&g, host, &case.frames[0][1]);
-    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    let (mut s, blade, _, host) = blade_and_bound_organ(&g, &case, 0.0, 0);
     let triangle = |m: &TestMesh, pos: &[[f32; 3]], p: u32| {
         let c = |k: usize| pos[m.idx[3 * p as usize + k] as usize].map(f64::from);
         [[c(0), c(1), c(2)]; 2]
@@ -410,16 +414,7 @@ fn self_collision_of_a_bound_mesh_is_refused() {
     let ctx = Ctx::new(Profile::Core);
     let g = ctx.glow();
     let case = instrument_case();
-    let mut s = gl_scene(SceneConfig::default(), Path::Whole);
-    let blade = add(&mut s, &case.meshes[0]);
-    let organ = add(&mut s, &case.meshes[1]);
-    let frame = &case.frames[1];
-    s.update_positions(blade, 0, Positions::from_points(&frame[0]))
-        .unwrap();
-    // SAFETY: this test's GL context is current on this thread; the objects are its own.
-    let host = unsafe { g.create_buffer().unwrap() };
-    fill(&g, host, &frame[1]);
-    s.bind_gl_buffer(organ, host.0.get(), 0, 0).unwrap();
+    let (mut s, _, organ, host) = blade_and_bound_organ(&g, &case, 0.0, 1);
     s.set_self_collision(organ, true).unwrap();
     let e = s.query_all().unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unsupported, "{}", e.message);
