@@ -778,9 +778,11 @@ impl Scene {
         let spare = &mut out.spare_capacity_mut()[..n];
         // Four triangle pairs at a time. At epsilon 0 every pair of the answer intersects
         // (the exact test decided it), so the geometry skips that test; not where a mesh
-        // reads a host GL buffer (GL_COMPUTE's answer for it has no CPU confirmation and may
-        // hold pairs within its rounding band: the geometry decides them exactly).
-        let known = self.config.epsilon == 0.0 && !bound;
+        // reads a host GL buffer on a GL backend (GL_COMPUTE's answer for it has no CPU
+        // confirmation and may hold pairs within its rounding band: the geometry decides
+        // them exactly). A CPU scene reads the buffer in and answers exactly.
+        let unconfirmed = bound && self.selector.backend() != Backend::Cpu;
+        let known = self.config.epsilon == 0.0 && !unconfirmed;
         let (meshes, contacts, pairs) = (&self.meshes, &self.contacts, &self.pairs);
         // Entries `out` from pair `base` on.
         let fill = |out: &mut [MaybeUninit<ContactGeometry>], base: usize| -> Result<()> {

@@ -574,6 +574,19 @@ fn binding_under_auto() {
     // SAFETY: a live scene; its context is current.
     ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, host.0.get(), offset, stride) });
     check(try_query(s, a_id).unwrap(), &want, &b);
+    // Contact geometry of the buffer's positions (not those the mesh was created with, at
+    // which no pair meets): at epsilon 0 every pair intersects.
+    let (mut gp, mut gn) = (std::ptr::null(), 0);
+    // SAFETY: a live scene; its context is current.
+    ok(unsafe { glcol_query_geometry(s, &mut gp, &mut gn) });
+    assert!(gn > 0);
+    // SAFETY: the scene's `gn` entries, alive until its next query.
+    let geo = unsafe { std::slice::from_raw_parts(gp, gn) };
+    assert!(
+        geo.iter()
+            .all(|g| g.flags & GLCOL_CONTACT_INTERSECTING != 0 && g.depth >= 0.0),
+        "geometry of positions other than the buffer's"
+    );
     // The host rewrites its buffer: the next query sees it.
     let moved = host_strided(&g, &b2.pos, offset, stride);
     // SAFETY: the test's context is current; both buffers are its own.
