@@ -1855,7 +1855,11 @@ fn closest_search(t: &Tri, u: &Tri) -> Closest {
     };
     let mut vf: Option<Closest> = None;
     for k in 0..3 {
-        if let Some((q, d2)) = over_face(&t.v[k], u) {
+        // A candidate is taken only when nearer than the best so far (the nearest edge
+        // pair, then the nearest vertex over a face): `over_face_below` drops the others
+        // before testing their feet, the common case (the answer unchanged).
+        let below = vf.as_ref().map_or(best.d2, |c| c.d2);
+        if let Some((q, d2)) = over_face_below(&t.v[k], u, below) {
             if d2 < best.d2 && vf.as_ref().is_none_or(|c| d2 < c.d2) {
                 vf = Some(Closest {
                     p: t.v[k],
@@ -1865,7 +1869,8 @@ fn closest_search(t: &Tri, u: &Tri) -> Closest {
                 });
             }
         }
-        if let Some((p, d2)) = over_face(&u.v[k], t) {
+        let below = vf.as_ref().map_or(best.d2, |c| c.d2);
+        if let Some((p, d2)) = over_face_below(&u.v[k], t, below) {
             if d2 < best.d2 && vf.as_ref().is_none_or(|c| d2 < c.d2) {
                 vf = Some(Closest {
                     p,
@@ -1956,6 +1961,33 @@ fn vertex_over_face(t: &Tri, u: &Tri, swapped: bool) -> Option<Closest> {
             feature: Feature::VertexFace { k },
         }
     })
+}
+
+/// [`over_face`] when its squared distance is below `limit` (`None` otherwise, or when
+/// `limit` is NaN): the distance to the plane first, the three edge tests only for a
+/// vertex near enough to matter. The same values as `over_face` where it answers.
+#[inline(always)]
+fn over_face_below(x: &V, f: &Tri, limit: f64) -> Option<(V, f64)> {
+    if f.flat {
+        return None;
+    }
+    let n = &f.n;
+    let nn = n.norm_squared();
+    if nn.is_nan() || nn <= 0.0 {
+        return None;
+    }
+    let h = n.dot(&(x - f.v[0]));
+    let d2 = h * h / nn;
+    // (`!(d2 < limit)`: a NaN on either side drops the candidate, as the callers'
+    // comparisons would.)
+    if !(d2 < limit) {
+        return None;
+    }
+    let inside = (0..3).all(|e| {
+        let (c0, c1) = (f.v[e], f.v[(e + 1) % 3]);
+        (c1 - c0).cross(&(x - c0)).dot(n) >= 0.0
+    });
+    inside.then(|| (x - n * (h / nn), d2))
 }
 
 /// The foot of `x` on the plane of the non-flat triangle `f` and the squared distance,
