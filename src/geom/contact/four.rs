@@ -271,13 +271,12 @@ impl Best {
     }
 }
 
-/// The edge pairs of the separating-axis search, counted from the lone signs: `a`'s edges
-/// and vertices from `ib` on (`ib`, the next, the previous: the scalar `ib, i1, i2`), `b`'s
-/// and `a3` from `ja` on.
+/// The edge pairs of the separating-axis search, counted from the lone signs: `a`'s
+/// vertices from `ib` on (`ib`, the next, the previous: the scalar `ib, i1, i2`), `b`'s and
+/// `a3` from `ja` on. (An edge is the difference of two of these vertices, as `edges`
+/// makes it: the same value, and twelve fewer vectors to keep.)
 struct Sat {
-    ea: [W; 3],
     va: [W; 3],
-    eb: [W; 3],
     vb: [W; 3],
     a3: [F; 3],
     /// Lanes where the lone signs differ: five facets (else four).
@@ -286,7 +285,7 @@ struct Sat {
 
 impl Sat {
     #[inline(always)]
-    fn new(ta: &[W; 3], tb: &[W; 3], ea: &[W; 3], eb: &[W; 3], a3: &[F; 3], b3: &[F; 3]) -> Sat {
+    fn new(ta: &[W; 3], tb: &[W; 3], a3: &[F; 3], b3: &[F; 3]) -> Sat {
         let (i0, i1) = lonely(b3);
         let (j0, j1) = lonely(a3);
         let a3 = [
@@ -297,9 +296,7 @@ impl Sat {
         let zero = a3[0].like(0.0);
         let b3_lone = sel3(i0, i1, b3[0], b3[1], b3[2]);
         Sat {
-            ea: turn((i0, i1), ea),
             va: turn((i0, i1), ta),
-            eb: turn((j0, j1), eb),
             vb: turn((j0, j1), tb),
             a3,
             five: a3[0].gt(zero).xor(b3_lone.gt(zero)),
@@ -311,14 +308,10 @@ impl Sat {
     #[inline(always)]
     fn offer(&self, best: &mut Best, five_at: (usize, usize), four_at: (usize, usize), facet: M) {
         let ((i5, j5), (i4, j4)) = (five_at, four_at);
-        let (ea, va) = (
-            pick(self.five, &self.ea, i5, i4),
-            pick(self.five, &self.va, i5, i4),
-        );
-        let (eb, vb) = (
-            pick(self.five, &self.eb, j5, j4),
-            pick(self.five, &self.vb, j5, j4),
-        );
+        let va = pick(self.five, &self.va, i5, i4);
+        let ea = pick(self.five, &self.va, (i5 + 1) % 3, (i4 + 1) % 3).sub(&va);
+        let vb = pick(self.five, &self.vb, j5, j4);
+        let eb = pick(self.five, &self.vb, (j5 + 1) % 3, (j4 + 1) % 3).sub(&vb);
         let a3 = if j5 == j4 {
             self.a3[j5]
         } else {
@@ -422,7 +415,7 @@ pub(super) unsafe fn crossing(
     let (fine_a, fine_b) = (fine(&a3), fine(&b3));
     // Counted from the lone signs, `ib` of b3 and `ja` of a3 (as the scalar path does),
     // the facets are the same relative pairs in every lane: four or five of them.
-    let sides = Sat::new(ta, tb, &ea, &eb, &a3, &b3);
+    let sides = Sat::new(ta, tb, &a3, &b3);
 
     // The two faces: on na, a at 0 and b at db; on nb, b at 0 and a at da.
     let mut best = Best {
