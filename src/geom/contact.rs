@@ -528,12 +528,12 @@ fn triangles(a: &[P3; 3], b: &[P3; 3]) -> Fast {
     let v = |p: &P3| V::new(p[0], p[1], p[2]);
     let ta = [v(&a[0]), v(&a[1]), v(&a[2])];
     let tb = [v(&b[0]), v(&b[1]), v(&b[2])];
-    let fa = Face::of(&ta);
+    let fa = Face::of(&ta, a);
     let (db, hb, scale_b) = fa.sides(&tb);
     if separated(hb) {
         return Fast::Apart;
     }
-    let fb = Face::of(&tb);
+    let fb = Face::of(&tb, b);
     let (da, ha, scale_a) = fb.sides(&ta);
     if separated(ha) {
         return Fast::Apart;
@@ -559,10 +559,10 @@ fn triangles(a: &[P3; 3], b: &[P3; 3]) -> Fast {
     // The pair's magnitude, to within its extent (enough for the refinement's test).
     let mag = max(ta[0].amax(), tb[0].amax());
     let (cut_a, cut_b) = (
-        Cutting::new(&ta, &da, &scale_a, &fb, mag),
-        Cutting::new(&tb, &db, &scale_b, &fa, mag),
+        Cutting::new(&ta, a, &da, &scale_a, &fb, mag),
+        Cutting::new(&tb, b, &db, &scale_b, &fa, mag),
     );
-    let Some((p, q)) = transverse(&cut_a, &cut_b, &fa.n.cross(&fb.n)) else {
+    let Some((p, q)) = transverse(&cut_a, &cut_b) else {
         return Fast::Other;
     };
     let Some((normal, depth)) = triangles_sat(&ta, &tb, &fa.n, &fb.n, &da, &db).result() else {
@@ -622,8 +622,8 @@ fn segment_crossing(seg: &[P3; 3], tri: &[P3; 3], flip: f64) -> Option<Local> {
     }
     let v = |x: &P3| V::new(x[0], x[1], x[2]);
     let (vp, vq, t) = (v(&p), v(&q), [v(&tri[0]), v(&tri[1]), v(&tri[2])]);
-    let face = Face::of(&t);
-    let (dp, dq) = (face.distance_accurately(&vp), face.distance_accurately(&vq));
+    let face = Face::of(&t, tri);
+    let (dp, dq) = (face.distance_accurately(&p), face.distance_accurately(&q));
     let x = lerp_from_nearer(&vp, &vq, dp, dq);
     // The separating axes, in a frame at `p` (differences of the input: exact for `f32`).
     let s = vq - vp;
@@ -688,21 +688,23 @@ const FACE_SLACK: f64 = 1e-12;
 /// magnitudes of the two products behind it (the scale of its rounding error).
 struct Face {
     o: V,
-    e: V,
-    f: V,
     n: V,
     perm: V,
+    /// The triangle's corners as given (world positions): what
+    /// [`Face::distance_accurately`] works from.
+    world: [P3; 3],
 }
 
 impl Face {
+    /// The plane of `t`, whose corners are at world positions `world` (`t` is `world` or
+    /// its image in a local frame).
     #[inline(always)]
-    fn of(t: &[V; 3]) -> Face {
+    fn of(t: &[V; 3], world: &[P3; 3]) -> Face {
         let e = t[1] - t[0];
         let f = t[2] - t[0];
         Face {
+            world: *world,
             o: t[0],
-            e,
-            f,
             // To the ulp, even on a sliver (its plane turned by eps over its width would
             // move a depth or a distance by that times its lever).
             n: triangle_normal(t),
@@ -733,30 +735,60 @@ impl Face {
         (d, h, scale)
     }
 
-    /// The signed distance of `p` (times `|n|`), `det(e, f, p - o)`, to within a few units
-    /// in its last place: `n`'s components and the products by `p - o` carried with their
-    /// rounding errors (error-free transformations; exact differences for `f32` input).
+    /// The signed distance of the point at world position `p` (times `|n|`),
+    /// `det(t1 - t0, t2 - t0, p - t0)` of the world positions, to within a few units in its
+    /// last place: the differences with their rounding errors (none for `f32` positions;
+    /// a placed mesh's `f64` ones have them), `n`'s components and the products by `p - t0`
+    /// carried with theirs (error-free transformations), the terms of second order in
+    /// `eps` kept, those of third order dropped.
     #[inline(always)]
-    fn distance_accurately(&self, p: &V) -> f64 {
-        let w = p - self.o;
-        let (e, f) = (&self.e, &self.f);
+    fn distance_accurately(&self, p: &P3) -> f64 {
+        let [t0, t1, t2] = &self.world;
+        let diff = |a: &P3, b: &P3| {
+            let (x, y, z) = (
+                two_sum(a[0], -b[0]),
+                two_sum(a[1], -b[1]),
+                two_sum(a[2], -b[2]),
+            );
+            (V::new(x.0, y.0, z.0), V::new(x.1, y.1, z.1))
+        };
+        let ((e, el), (f, fl), (w, wl)) = (diff(t1, t0), diff(t2, t0), diff(p, t0));
         let mut hi = 0.0;
         let mut lo = 0.0;
-        for (a, b, c, d, x) in [
-            (e.y, f.z, e.z, f.y, w.x),
-            (e.z, f.x, e.x, f.z, w.y),
-            (e.x, f.y, e.y, f.x, w.z),
+        for ((a, al), (b, bl), (c, cl), (d, dl), (x, xl)) in [
+            (
+                (e.y, el.y),
+                (f.z, fl.z),
+                (e.z, el.z),
+                (f.y, fl.y),
+                (w.x, wl.x),
+            ),
+            (
+                (e.z, el.z),
+                (f.x, fl.x),
+                (e.x, el.x),
+                (f.z, fl.z),
+                (w.y, wl.y),
+            ),
+            (
+                (e.x, el.x),
+                (f.y, fl.y),
+                (e.y, el.y),
+                (f.x, fl.x),
+                (w.z, wl.z),
+            ),
         ] {
-            // n_k = a b - c d = nh + nl.
+            // n_k = (a + al)(b + bl) - (c + cl)(d + dl) = nh + nl.
             let (p1, e1) = two_prod(a, b);
             let (p2, e2) = two_prod(c, d);
             let (nh, e3) = two_sum(p1, -p2);
-            let nl = e3 + (e1 - e2);
-            // n_k x = t + tl.
+            let nl =
+                (e3 + (e1 - e2)) + (((a * bl + al * b) - (c * dl + cl * d)) + (al * bl - cl * dl));
+            // n_k (x + xl) = t + tl + nl x + nh xl (+ nl xl, of third order).
             let (t, tl) = two_prod(nh, x);
             let (s, e4) = two_sum(hi, t);
             hi = s;
-            lo += e4 + tl + nl * x;
+            lo += ((e4 + tl) + nl * x) + nh * xl;
         }
         hi + lo
     }
@@ -766,6 +798,8 @@ impl Face {
 /// to that plane (with the exact signs) and the scales of their rounding errors.
 struct Cutting<'a> {
     v: &'a [V; 3],
+    /// The same corners at their world positions.
+    world: &'a [P3; 3],
     d: &'a [f64; 3],
     scale: &'a [f64; 3],
     plane: &'a Face,
@@ -775,9 +809,17 @@ struct Cutting<'a> {
 
 impl<'a> Cutting<'a> {
     #[inline(always)]
-    fn new(v: &'a [V; 3], d: &'a [f64; 3], scale: &'a [f64; 3], plane: &'a Face, mag: f64) -> Self {
+    fn new(
+        v: &'a [V; 3],
+        world: &'a [P3; 3],
+        d: &'a [f64; 3],
+        scale: &'a [f64; 3],
+        plane: &'a Face,
+        mag: f64,
+    ) -> Self {
         Cutting {
             v,
+            world,
             d,
             scale,
             plane,
@@ -818,7 +860,7 @@ impl<'a> Cutting<'a> {
     #[inline(never)]
     fn cut_accurately(&self) -> Option<(V, V)> {
         let mut fine = *self.d;
-        for (x, p) in fine.iter_mut().zip(self.v) {
+        for (x, p) in fine.iter_mut().zip(self.world) {
             let y = self.plane.distance_accurately(p);
             // Only with the exact sign (see `signed_like`).
             if (y > 0.0) == (*x > 0.0) && y != 0.0 {
@@ -1434,7 +1476,7 @@ fn piece<const N: usize>(t: &Tri, u: &Tri, signs: &Signs, origin_mag: f64, out: 
     }
     // Signed distances to the other's plane, with the exact signs (d = -orient3d).
     // (Their normals from the positions themselves, not the rounded local ones.)
-    let (mut ft, mut fu) = (Face::of(&t.v), Face::of(&u.v));
+    let (mut ft, mut fu) = (Face::of(&t.v, &t.p), Face::of(&u.v, &u.p));
     (ft.n, fu.n) = (t.n, u.n);
     let (dt, _, scale_t) = fu.sides(&t.v);
     let (du, _, scale_u) = ft.sides(&u.v);
@@ -1455,10 +1497,10 @@ fn piece<const N: usize>(t: &Tri, u: &Tri, signs: &Signs, origin_mag: f64, out: 
             .map(|p| p.amax())
             .fold(origin_mag, max);
     let (cut_t, cut_u) = (
-        Cutting::new(&t.v, &dt, &scale_t, &fu, mag),
-        Cutting::new(&u.v, &du, &scale_u, &ft, mag),
+        Cutting::new(&t.v, &t.p, &dt, &scale_t, &fu, mag),
+        Cutting::new(&u.v, &u.p, &du, &scale_u, &ft, mag),
     );
-    if let Some((lo, hi)) = transverse(&cut_t, &cut_u, &t.n.cross(&u.n)) {
+    if let Some((lo, hi)) = transverse(&cut_t, &cut_u) {
         out.push(lo);
         if hi != lo {
             out.push(hi);
@@ -1480,12 +1522,21 @@ fn crossing(t: &[V; 3], d: &[f64; 3]) -> Option<V> {
 
 /// Two non-flat triangles crossing each other's plane: the overlap of their cuts by the
 /// other's plane (`dt`, `du`: signed distances of their vertices to it), which both lie on
-/// the planes' common line (direction `line`), compared by their projections on it. The
-/// choices are blends, not branches (they follow the pair's random orientation).
+/// the planes' common line, compared by their projections on it. The choices are blends,
+/// not branches (they follow the pair's random orientation).
+///
+/// The line's direction is taken from the longer cut, not from the cross of the two
+/// normals: two nearly parallel planes (say 1e-16 rad apart: a placed mesh's triangle
+/// lying on another) have a common line whose direction that cross gets wrong entirely,
+/// which could order the ends wrongly; the ends themselves lie on the line to within
+/// their rounding, so the longer cut's direction is right to that rounding over its
+/// length (two cuts shorter than their rounding are answered within it either way).
 #[inline(always)]
-fn transverse(t: &Cutting, u: &Cutting, line: &V) -> Option<(V, V)> {
+fn transverse(t: &Cutting, u: &Cutting) -> Option<(V, V)> {
     let (t0, t1) = t.cut()?;
     let (u0, u1) = u.cut()?;
+    let (dt, du) = (t1 - t0, u1 - u0);
+    let line = pick(dt.norm_squared() >= du.norm_squared(), &dt, &du);
     let (kt0, kt1, ku0, ku1) = (line.dot(&t0), line.dot(&t1), line.dot(&u0), line.dot(&u1));
     // Each cut's low and high end, then the higher low and the lower high.
     let (lt, ht, klt, kht) = (
@@ -1978,9 +2029,8 @@ fn over_face_below(x: &V, f: &Tri, limit: f64) -> Option<(V, f64)> {
     }
     let h = n.dot(&(x - f.v[0]));
     let d2 = h * h / nn;
-    // (`!(d2 < limit)`: a NaN on either side drops the candidate, as the callers'
-    // comparisons would.)
-    if !(d2 < limit) {
+    // (A NaN on either side drops the candidate, as the callers' comparisons would.)
+    if d2 >= limit || d2.is_nan() || limit.is_nan() {
         return None;
     }
     let inside = (0..3).all(|e| {
@@ -3699,6 +3749,184 @@ mod tests {
                 assert_eq!(bits(g), bits(h), "{g:?} {h:?}");
             }
         }
+    }
+
+    /// Two triangles of one mesh plane (float positions in a plane z = h), placed as a transformed
+    /// mesh is: turned by a random rotation and moved, in `f64` (world positions that are
+    /// not floats). The rounding leaves the planes about 1e-16 rad apart: the pair crosses
+    /// (or misses by about 1e-17) along a line whose direction the cross of the normals
+    /// gets wrong entirely, and whose crossing points need distances of about 1e-17 that
+    /// the rounded edge differences cannot give. (Found by contact_check's placed families:
+    /// ends 1.8e7 float ulps off before the distances took the differences' rounding
+    /// errors and the ends were ordered along the longer cut.)
+    #[test]
+    fn placed_nearly_coplanar_crossings() {
+        let mut pairs = Vec::new();
+        let w = run("placed, nearly coplanar", 16.0, |r, c, s| {
+            // (The plane off the rotation's centre, as a mesh's plane is.)
+            let h = f32r(r.f() * s);
+            let flat = |r: &mut Rng, at: [f64; 2]| -> [P3; 3] {
+                [0, 1, 2].map(|_| {
+                    let q = r.v(s);
+                    [f32r(at[0] + q[0]), f32r(at[1] + q[1]), h]
+                })
+            };
+            let (t, u) = (flat(r, [0.0, 0.0]), flat(r, [0.2 * s, 0.1 * s]));
+            // A rotation from a random unit quaternion, then the move to `c`.
+            let q = [r.f(), r.f(), r.f(), r.f()];
+            let l = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let [w, x, y, z] = q.map(|v| v / l);
+            let m = [
+                [
+                    1.0 - 2.0 * (y * y + z * z),
+                    2.0 * (x * y - w * z),
+                    2.0 * (x * z + w * y),
+                ],
+                [
+                    2.0 * (x * y + w * z),
+                    1.0 - 2.0 * (x * x + z * z),
+                    2.0 * (y * z - w * x),
+                ],
+                [
+                    2.0 * (x * z - w * y),
+                    2.0 * (y * z + w * x),
+                    1.0 - 2.0 * (x * x + y * y),
+                ],
+            ];
+            let place = |t: [P3; 3]| {
+                t.map(|p| {
+                    [0, 1, 2].map(|k| m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + c[k])
+                })
+            };
+            // (Not `Polygon::tri`, which rounds to floats.)
+            let world = |t: [P3; 3]| Polygon { t: [t, t], n: 1 };
+            let (a, b) = (world(place(t)), world(place(u)));
+            if !meet(&a, &b) {
+                return Worst::default();
+            }
+            pairs.push((a, b));
+            placed_ends(&a, &b)
+        });
+        assert!(w.cases > 500, "{w:?}");
+        // The lanes answer them bit for bit as the scalar path.
+        #[cfg(target_arch = "x86_64")]
+        {
+            let mut out: Vec<ContactGeometry> = pairs.iter().map(|(a, b)| geometry(a, b)).collect();
+            let want = out.clone();
+            both_kernels(&mut out, true, fetch_from(&pairs)).unwrap();
+            for (g, h) in out.iter().zip(&want) {
+                assert_eq!(bits(g), bits(h), "{g:?} {h:?}");
+            }
+        }
+    }
+
+    /// The checks of [`check`] that hold for `f64` positions (its depth reference needs
+    /// exact differences): the flag, the ends on both triangles and on the exact
+    /// intersection (double-double), for a crossing pair of triangles.
+    fn placed_ends(a: &Polygon, b: &Polygon) -> Worst {
+        let g = geometry(a, b);
+        basic(&g);
+        assert!(g.intersecting && !g.coplanar, "{g:?}");
+        let mag = EPS * magnitude(a, b);
+        let (r0, r1) = reference_ends(a, b).expect("meeting polygons have a piece");
+        let mut w = Worst {
+            cases: 1,
+            ..Worst::default()
+        };
+        for p in [&g.point_a, &g.point_b] {
+            w.on_polygons = w
+                .on_polygons
+                .max(poly_dist(p, a).max(poly_dist(p, b)) / mag);
+            let x = d3(p);
+            let d = norm3(&sub3(&x, &seg_closest(&x, &r0, &r1))).f();
+            w.on_intersection = w.on_intersection.max(d / mag);
+        }
+        let direct = dist_dd(&g.point_a, &r0).max(dist_dd(&g.point_b, &r1));
+        let swapped = dist_dd(&g.point_a, &r1).max(dist_dd(&g.point_b, &r0));
+        w.ends = direct.min(swapped) / mag;
+        w
+    }
+
+    /// Pairs of contact_check's "coplanar, placed" family (two triangles of a plane
+    /// z = c, x = c or y = x, turned by one rotation in `f64`): before the fixes above,
+    /// their ends were off by 1e7 float ulps (the first ones: the distances; the last:
+    /// the ends' order along the normals' cross).
+    #[test]
+    fn placed_nearly_coplanar_known_pairs() {
+        let pairs: [([P3; 3], [P3; 3]); 3] = [
+            (
+                [
+                    [0.6415250228416145, 0.41072174910681886, 0.42156423799090614],
+                    [0.8877799692608426, 0.978890268581914, 0.5940424203293131],
+                    [
+                        -0.29167125660734405,
+                        -0.9977977622780284,
+                        -0.21272112784109543,
+                    ],
+                ],
+                [
+                    [0.6164615079785485, -0.4584403297298992, 0.3829468532453278],
+                    [
+                        -0.07037727566384085,
+                        0.3576494968463807,
+                        -0.03579236395156003,
+                    ],
+                    [0.21845301397630174, -1.20827202667814, 0.10855328039739387],
+                ],
+            ),
+            (
+                [
+                    [
+                        -0.025262942234202335,
+                        0.6771316536722247,
+                        -0.990385546710411,
+                    ],
+                    [-1.16150803367982, 0.36613106935855894, 0.4476123701102705],
+                    [-0.8899243717988565, 0.5829246635892422, 0.2845554115193106],
+                ],
+                [
+                    [0.07806352330540456, 0.8145947405791685, -0.9826996137576225],
+                    [-1.1065813504215143, 0.5352628394309864, 0.5735095868588895],
+                    [-0.8468570247172413, 0.1986255217816889, -0.2722255995336928],
+                ],
+            ),
+            (
+                [
+                    [
+                        -0.024689896145649565,
+                        -0.644529359445771,
+                        -0.16578366949100914,
+                    ],
+                    [-0.4582140774928679, 0.2218794335301869, 0.41626872050820934],
+                    [0.3618097837562834, -0.580728825287787, 0.6692725810624705],
+                ],
+                [
+                    [
+                        0.07562157060642033,
+                        -0.07215477076570226,
+                        0.9508893601924492,
+                    ],
+                    [
+                        -0.10627038550108411,
+                        0.08503394263404604,
+                        0.8610265476499976,
+                    ],
+                    [
+                        0.20229234409488395,
+                        -0.9556268316695622,
+                        -0.23975195682506575,
+                    ],
+                ],
+            ),
+        ];
+        let mut w = Worst::default();
+        for (i, (a, b)) in pairs.into_iter().enumerate() {
+            let (a, b) = (Polygon { t: [a, a], n: 1 }, Polygon { t: [b, b], n: 1 });
+            assert!(meet(&a, &b), "pair {i}");
+            w.merge(&placed_ends(&a, &b));
+        }
+        report("placed, nearly coplanar, known", &w);
+        assert_within(&w, 16.0);
     }
 
     /// Shallow crossings: b crosses a's plane at dihedral angles down to 1e-6 (the

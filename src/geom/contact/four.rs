@@ -87,45 +87,67 @@ impl Plane {
         let (d, scale) = self.distance(p);
         (d, scale, d.abs().gt(self.o.x.like(FACE_SLACK) * scale))
     }
+}
 
-    /// The normal's components as unevaluated sums `nh + nl` (error-free
-    /// transformations), for [`Face::distance_accurately`]: once per plane.
-    #[inline(always)]
-    fn normal_accurately(&self) -> (W, W) {
-        let (e, f) = (&self.e, &self.f);
-        let (xh, xl) = diff_of_products(e.y, f.z, e.z, f.y);
-        let (yh, yl) = diff_of_products(e.z, f.x, e.x, f.z);
-        let (zh, zl) = diff_of_products(e.x, f.y, e.y, f.x);
+/// The scalar `Face::distance_accurately`, operation for operation: the signed distance
+/// of `p` to the plane of `t` (times `|n|`) from the differences with their rounding
+/// errors (error-free transformations, terms of second order in `eps` kept).
+#[inline(always)]
+fn distance_accurately(t: &[W; 3], p: &W) -> F {
+    let (e, el) = diff(&t[1], &t[0]);
+    let (f, fl) = diff(&t[2], &t[0]);
+    let (w, wl) = diff(p, &t[0]);
+    let mut hi = w.x.like(0.0);
+    let mut lo = w.x.like(0.0);
+    for ((a, al), (b, bl), (c, cl), (d, dl), (x, xl)) in [
         (
-            W {
-                x: xh,
-                y: yh,
-                z: zh,
-            },
-            W {
-                x: xl,
-                y: yl,
-                z: zl,
-            },
-        )
+            (e.y, el.y),
+            (f.z, fl.z),
+            (e.z, el.z),
+            (f.y, fl.y),
+            (w.x, wl.x),
+        ),
+        (
+            (e.z, el.z),
+            (f.x, fl.x),
+            (e.x, el.x),
+            (f.z, fl.z),
+            (w.y, wl.y),
+        ),
+        (
+            (e.x, el.x),
+            (f.y, fl.y),
+            (e.y, el.y),
+            (f.x, fl.x),
+            (w.z, wl.z),
+        ),
+    ] {
+        let (nh, n0) = diff_of_products(a, b, c, d);
+        let nl = n0 + (((a * bl + al * b) - (c * dl + cl * d)) + (al * bl - cl * dl));
+        let (t, tl) = two_prod(nh, x);
+        let (s, e4) = two_sum(hi, t);
+        hi = s;
+        lo = lo + (((e4 + tl) + nl * x) + nh * xl);
     }
+    hi + lo
+}
 
-    /// The scalar `Face::distance_accurately` (error-free transformations), given the
-    /// normal from [`Face::normal_accurately`] (the scalar path recomputes it per point:
-    /// the same values).
-    #[inline(always)]
-    fn distance_accurately(&self, (nh, nl): &(W, W), p: &W) -> F {
-        let w = p.sub(&self.o);
-        let mut hi = w.x.like(0.0);
-        let mut lo = w.x.like(0.0);
-        for (nh, nl, x) in [(nh.x, nl.x, w.x), (nh.y, nl.y, w.y), (nh.z, nl.z, w.z)] {
-            let (t, tl) = two_prod(nh, x);
-            let (s, e4) = two_sum(hi, t);
-            hi = s;
-            lo = lo + (e4 + tl + nl * x);
-        }
-        hi + lo
-    }
+/// `a - b` as the rounded difference and its exact error, per component.
+#[inline(always)]
+fn diff(a: &W, b: &W) -> (W, W) {
+    let (x, y, z) = (two_sum(a.x, -b.x), two_sum(a.y, -b.y), two_sum(a.z, -b.z));
+    (
+        W {
+            x: x.0,
+            y: y.0,
+            z: z.0,
+        },
+        W {
+            x: x.1,
+            y: y.1,
+            z: z.1,
+        },
+    )
 }
 
 /// A triangle's plane with its normal as the scalar `Face::of` makes it
@@ -191,12 +213,12 @@ fn lonely(d: &[F; 3]) -> (M, M) {
     (m0, m1)
 }
 
-/// Distance `x` of `v` to `plane` evaluated accurately in the lanes of `shaky` (where of
-/// the same sign: the exact one).
+/// Distance `x` of `v` to the plane of `t` evaluated accurately in the lanes of `shaky`
+/// (where of the same sign: the exact one).
 #[inline(always)]
-fn accurate(plane: &Face, n: &(W, W), v: &W, x: F, shaky: M) -> F {
+fn accurate(t: &[W; 3], v: &W, x: F, shaky: M) -> F {
     let zero = x.like(0.0);
-    let y = plane.distance_accurately(n, v);
+    let y = distance_accurately(t, v);
     let same = y.gt(zero).xor(x.gt(zero)).not();
     shaky.and(same).and(y.eq(zero).not()).sel(y, x)
 }
@@ -206,7 +228,7 @@ fn accurate(plane: &Face, n: &(W, W), v: &W, x: F, shaky: M) -> F {
 /// too far, from the distances evaluated accurately (keeping the exact signs), as the
 /// scalar `Cutting::cut_accurately`.
 #[inline(always)]
-fn cut(v: &[W; 3], d: &[F; 3], s: &[F; 3], mag: F, plane: &Face) -> (W, W) {
+fn cut(v: &[W; 3], d: &[F; 3], s: &[F; 3], mag: F, plane: &[W; 3]) -> (W, W) {
     let (m0, m1) = lonely(d);
     let vk = sel3w(m0, m1, &v[0], &v[1], &v[2]);
     let vi = sel3w(m0, m1, &v[1], &v[2], &v[0]);
@@ -227,11 +249,10 @@ fn cut(v: &[W; 3], d: &[F; 3], s: &[F; 3], mag: F, plane: &Face) -> (W, W) {
     if shaky.bits() != 0 {
         // Rare on real meshes (a few pairs in a thousand): the accurate distances, used
         // where shaky and of the same sign.
-        let n = plane.normal_accurately();
         let fine = [
-            accurate(plane, &n, &v[0], d[0], shaky),
-            accurate(plane, &n, &v[1], d[1], shaky),
-            accurate(plane, &n, &v[2], d[2], shaky),
+            accurate(plane, &v[0], d[0], shaky),
+            accurate(plane, &v[1], d[1], shaky),
+            accurate(plane, &v[2], d[2], shaky),
         ];
         dk = sel3(m0, m1, fine[0], fine[1], fine[2]);
         di = dk - sel3(m0, m1, fine[1], fine[2], fine[0]);
@@ -384,10 +405,12 @@ pub(super) unsafe fn crossing(
     let (da, scale_a, ok_a) = fb.sides(ta);
     // The pair's magnitude, to within its extent (as the scalar path).
     let mag = ta[0].amax().max(tb[0].amax());
-    let (a0, a1) = cut(ta, &da, &scale_a, mag, &fb);
-    let (b0, b1) = cut(tb, &db, &scale_b, mag, &fa);
-    // The overlap of the two cuts on the planes' common line (the scalar `transverse`).
-    let line = fa.n.cross(&fb.n);
+    let (a0, a1) = cut(ta, &da, &scale_a, mag, tb);
+    let (b0, b1) = cut(tb, &db, &scale_b, mag, ta);
+    // The overlap of the two cuts on the planes' common line (the scalar `transverse`:
+    // ordered along the longer cut).
+    let (da_, db_) = (a1.sub(&a0), b1.sub(&b0));
+    let line = da_.norm_squared().ge(db_.norm_squared()).selw(&da_, &db_);
     let (ka0, ka1, kb0, kb1) = (line.dot(&a0), line.dot(&a1), line.dot(&b0), line.dot(&b1));
     let (ca, cb) = (ka0.le(ka1), kb0.le(kb1));
     let (la, ha) = (ca.selw(&a0, &a1), ca.selw(&a1, &a0));
