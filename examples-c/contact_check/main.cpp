@@ -35,6 +35,12 @@
 // resolution of the pair's extent. The rule for separation: a float normal is within about
 // one float rounding (2^-24 rad) of the exact direction, which moves the depth needed along
 // it by up to about 2 E 2^-24; s = 8 ulp(E) covers that and depth's own rounding.
+// Families: every base configuration at the origin, 1e3 and 1e5 off it, at scales 1e-4 and
+// 1e4, and placed by glcol_mesh_set_transform (a random rotation, at the origin and 1e3 off,
+// scale 1 and 1e-4): then the world positions are doubles that are not floats (the
+// reference takes them exactly, computed as API.md defines them), and the configurations
+// keep their shape to within the placement's rounding (a plane's two triangles 1e-16 rad
+// apart, a vertex 1e-17 off an edge).
 // Fails (exit 1) on: any error above --limit ulps (default 8), a flag that is not the exact
 // one, a NaN or infinity, a non-separating translation, a reported count that differs from
 // the pair count, an intersecting depth < 0 or a band depth > 0.
@@ -105,10 +111,10 @@ struct Poly {
     std::vector<Simplex> s;
     std::vector<Pt> v;
 };
-Poly make_poly(const float *const *corner, int n) {
+Poly make_poly(const double *const *corner, int n) {
     Poly P;
     std::vector<Pt> c;
-    for (int i = 0; i < n; i++) c.emplace_back(double(corner[i][0]), double(corner[i][1]), double(corner[i][2]));
+    for (int i = 0; i < n; i++) c.emplace_back(corner[i][0], corner[i][1], corner[i][2]);
     P.s.push_back(simplex(c[0], c[1], c[2]));
     if (n == 4) P.s.push_back(simplex(c[0], c[2], c[3]));
     for (const Pt &x : c)
@@ -337,14 +343,13 @@ std::string fmt1(float x) {
 std::string fmt3(const float *x) { return "{" + fmt1(x[0]) + ", " + fmt1(x[1]) + ", " + fmt1(x[2]) + "}"; }
 
 // The two polygons' corners as C99 hex floats (exact), ready for a reproduction.
-std::string corners(const float *const *ca, int na, const float *const *cb, int nb) {
+std::string corners(const double *const *ca, int na, const double *const *cb, int nb) {
     std::string o;
     char b[128];
     for (auto cs : {std::make_pair(ca, na), std::make_pair(cb, nb)}) {
         o += "\n    {";
         for (int i = 0; i < cs.second; i++) {
-            snprintf(b, sizeof b, "%s{%a, %a, %a}", i ? ", " : "", double(cs.first[i][0]), double(cs.first[i][1]),
-                     double(cs.first[i][2]));
+            snprintf(b, sizeof b, "%s{%a, %a, %a}", i ? ", " : "", cs.first[i][0], cs.first[i][1], cs.first[i][2]);
             o += b;
         }
         o += "}";
@@ -357,7 +362,7 @@ struct Checker {
     bool inject = false;
     bool injected = false;
 
-    void pair(Stats &S, const float *const *ca, int na, const float *const *cb, int nb, GlcolContactGeometry g,
+    void pair(Stats &S, const double *const *ca, int na, const double *const *cb, int nb, GlcolContactGeometry g,
               const char *where) {
         S.pairs++;
         char buf[512];
@@ -664,9 +669,28 @@ const char *kind_name[NKIND] = {"random",          "coplanar",   "touching",
                                 "slivers",         "near 1e-3..1e-7", "degenerate",
                                 "sliver, vertex 1e-3..1e-7 above"};
 
+// A position placed by the 3x4 row-major matrix m as API.md defines it: each coordinate
+// m[r*4+0]*x + m[r*4+1]*y + m[r*4+2]*z + m[r*4+3], in that order, every product and sum
+// rounded to double (volatile: no fused multiply-add whatever the compiler flags).
+void place(const double *m, const float *x, double *out) {
+    for (int r = 0; r < 3; r++) {
+        volatile double p0 = m[r * 4 + 0] * double(x[0]);
+        volatile double p1 = m[r * 4 + 1] * double(x[1]);
+        volatile double p2 = m[r * 4 + 2] * double(x[2]);
+        volatile double s = p0 + p1;
+        s = s + p2;
+        out[r] = s + m[r * 4 + 3];
+    }
+}
+
 // One family: every base kind at a scale and offset, through one scene of two one-triangle
-// meshes (updated per pair), glcol_query then glcol_query_geometry.
-void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n, uint64_t seed) {
+// meshes (updated per pair), glcol_query then glcol_query_geometry. `placed`: both meshes
+// under one rigid placement (glcol_mesh_set_transform: a random rotation, the offset as its
+// translation; the floats are the configuration at the origin), so the world positions are
+// doubles that are not floats, and the configurations (near misses, slivers) keep their
+// shape to within the placement's rounding; the reference takes those doubles exactly.
+void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n, uint64_t seed,
+            bool placed = false) {
     Gen G;
     G.rng.seed(seed);
     GlcolSceneDesc sd;
@@ -691,6 +715,24 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
     }
     std::array<double, 3> off = unit(G.p(1));
     for (auto &x : off) x *= offset;
+    // The placement: rotation from a random unit quaternion, translation `off`.
+    double m[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    if (placed) {
+        double q[4] = {G.u(-1, 1), G.u(-1, 1), G.u(-1, 1), G.u(-1, 1)};
+        double l = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        for (double &x : q) x /= l;
+        double w = q[0], x = q[1], y = q[2], z = q[3];
+        double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+                       2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+                       2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
+        for (int row = 0; row < 3; row++) {
+            for (int k = 0; k < 3; k++) m[row * 4 + k] = r[row * 3 + k];
+            m[row * 4 + 3] = off[row];
+        }
+        for (int k = 0; k < 2; k++) check(glcol_mesh_set_transform(scene, ids[k], m), "glcol_mesh_set_transform");
+        off = {0, 0, 0};
+    }
+    double wa[9], wb[9];
     for (int i = 0; i < n; i++) {
         auto [a, b] = make(G, kind, i);
         for (int v = 0; v < 3; v++)
@@ -698,6 +740,10 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
                 pa[3 * v + k] = float(a[v][k] * scale + off[k]);
                 pb[3 * v + k] = float(b[v][k] * scale + off[k]);
             }
+        for (int v = 0; v < 3; v++) {
+            place(m, pa + 3 * v, wa + 3 * v);
+            place(m, pb + 3 * v, wb + 3 * v);
+        }
         check(glcol_mesh_update_positions(scene, ids[0], pa, 0, 3, 0), "update a");
         check(glcol_mesh_update_positions(scene, ids[1], pb, 0, 3, 0), "update b");
         const GlcolContact *c = nullptr;
@@ -712,7 +758,7 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
             S.fail(std::string(where) + ": geometry count differs from the contact count");
             continue;
         }
-        const float *ca[3] = {pa, pa + 3, pa + 6}, *cb[3] = {pb, pb + 3, pb + 6};
+        const double *ca[3] = {wa, wa + 3, wa + 6}, *cb[3] = {wb, wb + 3, wb + 6};
         if (nc == 0) {
             // Not reported: must not intersect (the query's exactness, checked in passing).
             Poly A = make_poly(ca, 3), B = make_poly(cb, 3);
@@ -764,10 +810,13 @@ void mesh_scene(Checker &C, Stats &S, const Scene &sc, int frames) {
         }
         for (size_t i = 0; i < np; i++) {
             if (p[i].mesh_a != ids[0] || p[i].mesh_b != ids[1]) continue;
-            const float *ca[4], *cb[4];
+            double xa[4][3], xb[4][3];
+            const double *ca[4] = {xa[0], xa[1], xa[2], xa[3]}, *cb[4] = {xb[0], xb[1], xb[2], xb[3]};
             uint32_t va = ms[0]->vpp, vb = ms[1]->vpp;
-            for (uint32_t j = 0; j < va; j++) ca[j] = &f.a[3 * size_t(ms[0]->poly[size_t(p[i].polygon_a) * va + j])];
-            for (uint32_t j = 0; j < vb; j++) cb[j] = &f.b[3 * size_t(ms[1]->poly[size_t(p[i].polygon_b) * vb + j])];
+            for (uint32_t j = 0; j < va; j++)
+                for (int k = 0; k < 3; k++) xa[j][k] = f.a[3 * size_t(ms[0]->poly[size_t(p[i].polygon_a) * va + j]) + k];
+            for (uint32_t j = 0; j < vb; j++)
+                for (int k = 0; k < 3; k++) xb[j][k] = f.b[3 * size_t(ms[1]->poly[size_t(p[i].polygon_b) * vb + j]) + k];
             char where[160];
             snprintf(where, sizeof where, "%s frame %d pair (%u, %u)", S.name.c_str(), fr, p[i].polygon_a,
                      p[i].polygon_b);
@@ -811,6 +860,7 @@ int main(int argc, char **argv) {
             const char *tag;
             double scale, offset;
             std::vector<Kind> kinds;
+            bool placed = false;
         };
         std::vector<Kind> every = {RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER};
         std::vector<Fam> fams = {
@@ -819,6 +869,10 @@ int main(int argc, char **argv) {
             {", offset 1e5", 1, 1e5, {RANDOM, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}},
             {", scale 1e-4", 1e-4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}},
             {", scale 1e4", 1e4, 0, {RANDOM, COPLANAR, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}},
+            // Placed by glcol_mesh_set_transform: world positions in double, not floats.
+            {", placed", 1, 0, every, true},
+            {", placed, offset 1e3", 1, 1e3, every, true},
+            {", placed, scale 1e-4", 1e-4, 0, {RANDOM, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}, true},
         };
         uint64_t seed = 1;
         for (auto &F : fams)
@@ -828,7 +882,7 @@ int main(int argc, char **argv) {
                 seed++;
                 if (!only.empty() && S.name.find(only) == std::string::npos) continue;
                 C.injected = false;
-                family(C, S, k, F.scale, F.offset, npairs, seed);
+                family(C, S, k, F.scale, F.offset, npairs, seed, F.placed);
                 all.push_back(S);
             }
         // Real meshes: the heavy organ pair and two instrument cases (the cross-check's
