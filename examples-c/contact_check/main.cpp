@@ -64,6 +64,7 @@
 #include <map>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -669,6 +670,75 @@ const char *kind_name[NKIND] = {"random",          "coplanar",   "touching",
                                 "slivers",         "near 1e-3..1e-7", "degenerate",
                                 "sliver, vertex 1e-3..1e-7 above"};
 
+// Quad pairs (meshes of one quad each: the union of triangles (v0,v1,v2), (v0,v2,v3);
+// the general path of the geometry, and the hull's depth).
+enum QuadKind { Q_RANDOM, Q_COPLANAR, Q_NEAR, Q_TOUCHING, NQUAD };
+const char *quad_name[NQUAD] = {"quads, random", "quads, coplanar", "quads, near 1e-3..1e-7",
+                                "quads, touching"};
+using Q4 = std::array<std::array<double, 3>, 4>;
+std::pair<Q4, Q4> make_quads(Gen &G, QuadKind k, int i) {
+    // A convex quad in z = 0 whose diagonal v0-v2 lies on the x axis (a point on it is
+    // exact in floats), or a random one.
+    auto flat = [&](double z) {
+        Q4 q = {{{0, 0, z}, {float(G.u(0.2, 0.8)), float(-G.u(0.3, 1)), z}, {1, 0, z},
+                 {float(G.u(0.2, 0.8)), float(G.u(0.3, 1)), z}}};
+        return q;
+    };
+    auto random = [&](double r) {
+        Q4 q = {{G.p(r), G.p(r), G.p(r), G.p(r)}};
+        return q;
+    };
+    switch (k) {
+    case Q_RANDOM: {
+        // b shifted so that a point of it (its first triangle) coincides with one of a.
+        Q4 a = random(1), b = random(1);
+        double w0 = G.u(0, 1), w1 = G.u(0, 1 - w0);
+        for (int c = 0; c < 3; c++) {
+            double pa = w0 * a[0][c] + w1 * a[1][c] + (1 - w0 - w1) * a[2][c];
+            double pb = w0 * b[0][c] + w1 * b[1][c] + (1 - w0 - w1) * b[2][c];
+            for (auto &v : b) v[c] += pa - pb;
+        }
+        return {a, b};
+    }
+    case Q_COPLANAR: {
+        // Both in z = c (exact in floats), random or convex.
+        double c = float(G.u(-1, 1));
+        Q4 a = i % 2 ? flat(c) : random(1), b = random(1);
+        for (auto *q : {&a, &b})
+            for (auto &v : *q) v[2] = c;
+        return {a, b};
+    }
+    case Q_NEAR: {
+        // b's first vertex h = 1e-3..1e-7 above (apart) or below (crossing) a point of a's
+        // interior or of its diagonal, its others farther on that side.
+        Q4 a = flat(0);
+        double h = std::pow(10.0, G.u(-7, -3)) * (i % 2 ? 1 : -1);
+        std::array<double, 3> q = i % 4 < 2 ? std::array<double, 3>{G.u(0.2, 0.8), 0, h}
+                                            : std::array<double, 3>{G.u(0.3, 0.7), G.u(-0.1, 0.1), h};
+        auto up = [&] { return std::array<double, 3>{q[0] + G.u(-0.5, 0.5), q[1] + G.u(-0.5, 0.5), h + G.u(0.1, 1) * (h > 0 ? 1 : -1) * (i % 3 ? 1 : -1)}; };
+        Q4 b = {{q, up(), up(), up()}};
+        return {a, b};
+    }
+    default: {
+        // b's first vertex on a's diagonal (inside the quad), on an edge or on a corner;
+        // its others above (some below: crossing).
+        Q4 a = flat(0);
+        std::array<double, 3> q;
+        switch (i % 3) {
+        case 0: q = {float(G.u(0.1, 0.9)), 0, 0}; break; // on the diagonal
+        case 1: q = a[1]; break;                           // a corner
+        default: {                                         // on edge v2-v3 (at its middle, exact)
+            for (int c = 0; c < 3; c++) q[c] = 0.5 * (a[2][c] + a[3][c]);
+            if (float(q[0]) != q[0] || float(q[1]) != q[1]) q = a[2];
+        }
+        }
+        auto up = [&](double s) { return std::array<double, 3>{q[0] + G.u(-0.5, 0.5), q[1] + G.u(-0.5, 0.5), s * G.u(0.1, 1)}; };
+        Q4 b = {{q, up(1), up(i % 5 ? 1 : -1), up(1)}};
+        return {a, b};
+    }
+    }
+}
+
 // A position placed by the 3x4 row-major matrix m as API.md defines it: each coordinate
 // m[r*4+0]*x + m[r*4+1]*y + m[r*4+2]*z + m[r*4+3], in that order, every product and sum
 // rounded to double (volatile: no fused multiply-add whatever the compiler flags).
@@ -689,8 +759,10 @@ void place(const double *m, const float *x, double *out) {
 // translation; the floats are the configuration at the origin), so the world positions are
 // doubles that are not floats, and the configurations (near misses, slivers) keep their
 // shape to within the placement's rounding; the reference takes those doubles exactly.
+// `quad` >= 0: quad pairs of that QuadKind instead of `kind`'s triangle pairs.
 void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n, uint64_t seed,
-            bool placed = false) {
+            bool placed = false, int quad = -1) {
+    const int nv = quad >= 0 ? 4 : 3;
     Gen G;
     G.rng.seed(seed);
     GlcolSceneDesc sd;
@@ -700,17 +772,17 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
     sd.threads = 1;
     GlcolScene *scene = nullptr;
     check(glcol_scene_create(&sd, &scene), "glcol_scene_create");
-    float pa[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, pb[9] = {0, 0, 1, 1, 0, 1, 0, 1, 1};
-    uint32_t idx[3] = {0, 1, 2};
+    float pa[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, pb[12] = {0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+    uint32_t idx[4] = {0, 1, 2, 3};
     GlcolMeshId ids[2];
     for (int m = 0; m < 2; m++) {
         GlcolMeshDesc d;
         glcol_mesh_desc_init(&d);
         d.positions = m ? pb : pa;
-        d.vertex_count = 3;
+        d.vertex_count = uint32_t(nv);
         d.indices = idx;
         d.polygon_count = 1;
-        d.vertices_per_polygon = 3;
+        d.vertices_per_polygon = uint32_t(nv);
         check(glcol_mesh_create(scene, &d, &ids[m]), "glcol_mesh_create");
     }
     std::array<double, 3> off = unit(G.p(1));
@@ -732,20 +804,27 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
         for (int k = 0; k < 2; k++) check(glcol_mesh_set_transform(scene, ids[k], m), "glcol_mesh_set_transform");
         off = {0, 0, 0};
     }
-    double wa[9], wb[9];
+    double wa[12], wb[12];
     for (int i = 0; i < n; i++) {
-        auto [a, b] = make(G, kind, i);
-        for (int v = 0; v < 3; v++)
+        Q4 a{}, b{};
+        if (quad >= 0) {
+            std::tie(a, b) = make_quads(G, QuadKind(quad), i);
+        } else {
+            auto t = make(G, kind, i);
+            std::copy(t.first.begin(), t.first.end(), a.begin());
+            std::copy(t.second.begin(), t.second.end(), b.begin());
+        }
+        for (int v = 0; v < nv; v++)
             for (int k = 0; k < 3; k++) {
                 pa[3 * v + k] = float(a[v][k] * scale + off[k]);
                 pb[3 * v + k] = float(b[v][k] * scale + off[k]);
             }
-        for (int v = 0; v < 3; v++) {
+        for (int v = 0; v < nv; v++) {
             place(m, pa + 3 * v, wa + 3 * v);
             place(m, pb + 3 * v, wb + 3 * v);
         }
-        check(glcol_mesh_update_positions(scene, ids[0], pa, 0, 3, 0), "update a");
-        check(glcol_mesh_update_positions(scene, ids[1], pb, 0, 3, 0), "update b");
+        check(glcol_mesh_update_positions(scene, ids[0], pa, 0, uint32_t(nv), 0), "update a");
+        check(glcol_mesh_update_positions(scene, ids[1], pb, 0, uint32_t(nv), 0), "update b");
         const GlcolContact *c = nullptr;
         size_t nc = 0;
         check(glcol_query(scene, ids[0], &c, &nc), "glcol_query");
@@ -758,14 +837,14 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
             S.fail(std::string(where) + ": geometry count differs from the contact count");
             continue;
         }
-        const double *ca[3] = {wa, wa + 3, wa + 6}, *cb[3] = {wb, wb + 3, wb + 6};
+        const double *ca[4] = {wa, wa + 3, wa + 6, wa + 9}, *cb[4] = {wb, wb + 3, wb + 6, wb + 9};
         if (nc == 0) {
             // Not reported: must not intersect (the query's exactness, checked in passing).
-            Poly A = make_poly(ca, 3), B = make_poly(cb, 3);
+            Poly A = make_poly(ca, nv), B = make_poly(cb, nv);
             if (meet(A, B)) S.fail(std::string(where) + ": an intersecting pair was not reported");
             continue;
         }
-        C.pair(S, ca, 3, cb, 3, g[0], where);
+        C.pair(S, ca, nv, cb, nv, g[0], where);
     }
     glcol_scene_destroy(scene);
 }
@@ -883,6 +962,22 @@ int main(int argc, char **argv) {
                 if (!only.empty() && S.name.find(only) == std::string::npos) continue;
                 C.injected = false;
                 family(C, S, k, F.scale, F.offset, npairs, seed, F.placed);
+                all.push_back(S);
+            }
+        // Quad pairs, at the origin, 1e3 off it, and placed.
+        struct QFam {
+            const char *tag;
+            double offset;
+            bool placed;
+        };
+        for (QFam F : {QFam{"", 0, false}, QFam{", offset 1e3", 1e3, false}, QFam{", placed", 0, true}})
+            for (int k = 0; k < NQUAD; k++) {
+                Stats S;
+                S.name = std::string(quad_name[k]) + F.tag;
+                seed++;
+                if (!only.empty() && S.name.find(only) == std::string::npos) continue;
+                C.injected = false;
+                family(C, S, RANDOM, 1, F.offset, npairs / 2, seed, F.placed, k);
                 all.push_back(S);
             }
         // Real meshes: the heavy organ pair and two instrument cases (the cross-check's
