@@ -539,7 +539,7 @@ std::array<double, 3> unit(std::array<double, 3> a) {
 }
 
 // The base configurations (unit size, at the origin); the families scale and offset them.
-enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER, NKIND };
+enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER, SHARED, NKIND };
 std::pair<T3, T3> make(Gen &G, Kind k, int i) {
     switch (k) {
     case RANDOM: {
@@ -640,6 +640,26 @@ std::pair<T3, T3> make(Gen &G, Kind k, int i) {
         if (i % 2) std::swap(a, b);
         return {a, b};
     }
+    case SHARED: {
+        // Neighbours of a folding mesh (what self-collision reports): b shares a's corner 0
+        // and folds through a's interior (one corner above a's plane, one below), or shares
+        // a corner or a's edge 0-1 and lies folded flat onto a (in z = 0: coplanar overlap).
+        T3 a = {{{0, 0, 0}, {1, 0, 0}, {float(G.u(0.1, 0.9)), float(G.u(0.3, 1)), 0}}};
+        auto in_a = [&] {
+            double w1 = G.u(0.05, 0.9), w2 = G.u(0.05, 0.95 - w1);
+            return std::array<double, 3>{float(w1 * a[1][0] + w2 * a[2][0]), float(w2 * a[2][1]), 0};
+        };
+        switch (i % 3) {
+        case 0: {
+            auto x = in_a(), y = in_a();
+            x[2] = float(G.u(0.01, 1));
+            y[2] = -float(G.u(0.01, 1));
+            return {a, {{a[0], x, y}}};
+        }
+        case 1: return {a, {{a[0], in_a(), in_a()}}};
+        default: return {a, {{a[0], a[1], in_a()}}};
+        }
+    }
     default: {
         // Degenerate: segments (a repeated vertex or a collinear third), points.
         T3 a = G.tri(1), b = G.tri(1);
@@ -668,7 +688,7 @@ std::pair<T3, T3> make(Gen &G, Kind k, int i) {
 }
 const char *kind_name[NKIND] = {"random",          "coplanar",   "touching",
                                 "slivers",         "near 1e-3..1e-7", "degenerate",
-                                "sliver, vertex 1e-3..1e-7 above"};
+                                "sliver, vertex 1e-3..1e-7 above", "shared corner or edge, folded"};
 
 // Quad pairs (meshes of one quad each: the union of triangles (v0,v1,v2), (v0,v2,v3);
 // the general path of the geometry, and the hull's depth).
@@ -980,6 +1000,18 @@ int main(int argc, char **argv) {
                 family(C, S, RANDOM, 1, F.offset, npairs / 2, seed, F.placed, k);
                 all.push_back(S);
             }
+        // Neighbours folded through each other (self-collision's adjacent pairs): at the
+        // origin, 1e3 off it, and placed.
+        for (auto &F : std::vector<Fam>{{"", 1, 0, {SHARED}}, {", offset 1e3", 1, 1e3, {SHARED}},
+                                        {", placed", 1, 0, {SHARED}, true}}) {
+            Stats S;
+            S.name = std::string(kind_name[SHARED]) + F.tag;
+            seed++;
+            if (!only.empty() && S.name.find(only) == std::string::npos) continue;
+            C.injected = false;
+            family(C, S, SHARED, F.scale, F.offset, npairs, seed, F.placed);
+            all.push_back(S);
+        }
         // Real meshes: the heavy organ pair and two instrument cases (the cross-check's
         // placement and warps), then the cross-check's generated scenes that stress geometry.
         std::vector<std::function<Scene()>> scenes;
