@@ -1012,6 +1012,18 @@ int main(int argc, char **argv) {
             family(C, S, SHARED, F.scale, F.offset, npairs, seed, F.placed);
             all.push_back(S);
         }
+        // The float range's ends: near its smallest normal numbers, and placed near its
+        // largest (every product of the constructions within f64's range either way).
+        for (auto &F : std::vector<Fam>{{", scale 1e-36", 1e-36, 0, every}, {", placed, scale 1e30", 1e30, 0, every, true}})
+            for (Kind k : F.kinds) {
+                Stats S;
+                S.name = std::string(kind_name[k]) + F.tag;
+                seed++;
+                if (!only.empty() && S.name.find(only) == std::string::npos) continue;
+                C.injected = false;
+                family(C, S, k, F.scale, F.offset, npairs, seed, F.placed);
+                all.push_back(S);
+            }
         // Real meshes: the heavy organ pair and two instrument cases (the cross-check's
         // placement and warps), then the cross-check's generated scenes that stress geometry.
         std::vector<std::function<Scene()>> scenes;
