@@ -539,7 +539,7 @@ std::array<double, 3> unit(std::array<double, 3> a) {
 }
 
 // The base configurations (unit size, at the origin); the families scale and offset them.
-enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER, SHARED, NKIND };
+enum Kind { RANDOM, COPLANAR, TOUCHING, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER, SHARED, TILTED, NKIND };
 std::pair<T3, T3> make(Gen &G, Kind k, int i) {
     switch (k) {
     case RANDOM: {
@@ -640,6 +640,20 @@ std::pair<T3, T3> make(Gen &G, Kind k, int i) {
         if (i % 2) std::swap(a, b);
         return {a, b};
     }
+    case TILTED: {
+        // Both in one random plane, rounded to floats: nearly coplanar (each vertex within
+        // half a float ulp of the plane), crossing at tiny angles or just missing; half of
+        // them share a corner.
+        auto o = G.p(1), e1 = unit(G.p(1)), e2 = unit(cross(e1, G.p(1)));
+        auto at = [&](double u, double v) {
+            return std::array<double, 3>{float(o[0] + u * e1[0] + v * e2[0]), float(o[1] + u * e1[1] + v * e2[1]),
+                                         float(o[2] + u * e1[2] + v * e2[2])};
+        };
+        T3 a = {{at(G.u(-1, 1), G.u(-1, 1)), at(G.u(-1, 1), G.u(-1, 1)), at(G.u(-1, 1), G.u(-1, 1))}};
+        T3 b = {{at(G.u(-1, 1), G.u(-1, 1)), at(G.u(-1, 1), G.u(-1, 1)), at(G.u(-1, 1), G.u(-1, 1))}};
+        if (i % 2) b[0] = a[0];
+        return {a, b};
+    }
     case SHARED: {
         // Neighbours of a folding mesh (what self-collision reports): b shares a's corner 0
         // and folds through a's interior (one corner above a's plane, one below), or shares
@@ -688,7 +702,8 @@ std::pair<T3, T3> make(Gen &G, Kind k, int i) {
 }
 const char *kind_name[NKIND] = {"random",          "coplanar",   "touching",
                                 "slivers",         "near 1e-3..1e-7", "degenerate",
-                                "sliver, vertex 1e-3..1e-7 above", "shared corner or edge, folded"};
+                                "sliver, vertex 1e-3..1e-7 above", "shared corner or edge, folded",
+                                "coplanar, tilted (float-rounded)"};
 
 // Quad pairs (meshes of one quad each: the union of triangles (v0,v1,v2), (v0,v2,v3);
 // the general path of the geometry, and the hull's depth).
@@ -1010,6 +1025,17 @@ int main(int argc, char **argv) {
             if (!only.empty() && S.name.find(only) == std::string::npos) continue;
             C.injected = false;
             family(C, S, SHARED, F.scale, F.offset, npairs, seed, F.placed);
+            all.push_back(S);
+        }
+        // One random plane, rounded to floats: at the origin, 1e3 off it, and placed.
+        for (auto &F : std::vector<Fam>{{"", 1, 0, {TILTED}}, {", offset 1e3", 1, 1e3, {TILTED}},
+                                        {", placed", 1, 0, {TILTED}, true}}) {
+            Stats S;
+            S.name = std::string(kind_name[TILTED]) + F.tag;
+            seed++;
+            if (!only.empty() && S.name.find(only) == std::string::npos) continue;
+            C.injected = false;
+            family(C, S, TILTED, F.scale, F.offset, npairs, seed, F.placed);
             all.push_back(S);
         }
         // The float range's ends: near its smallest normal numbers, and placed near its
