@@ -58,9 +58,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -884,6 +886,19 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
     glcol_scene_destroy(scene);
 }
 
+// glcol_query_all, then glcol_query_geometry: the pair count, or SIZE_MAX (a failure
+// recorded) when the two counts differ.
+size_t query_all_geometry(GlcolScene *scene, Stats &S, const GlcolPair **p, const GlcolContactGeometry **g) {
+    size_t np = 0, ng = 0;
+    check(glcol_query_all(scene, p, &np), "glcol_query_all");
+    check(glcol_query_geometry(scene, g, &ng), "glcol_query_geometry");
+    if (ng != np) {
+        S.fail(S.name + ": geometry count differs from the pair count");
+        return SIZE_MAX;
+    }
+    return np;
+}
+
 // A scene of real (or the cross-check's generated) meshes: glcol_query_all at the scene's
 // epsilon on some frames, every pair checked.
 void mesh_scene(Checker &C, Stats &S, const Scene &sc, int frames) {
@@ -913,15 +928,9 @@ void mesh_scene(Checker &C, Stats &S, const Scene &sc, int frames) {
         check(glcol_mesh_update_positions(scene, ids[0], f.a.data(), 0, ms[0]->nv(), 0), "update a");
         check(glcol_mesh_update_positions(scene, ids[1], f.b.data(), 0, ms[1]->nv(), 0), "update b");
         const GlcolPair *p = nullptr;
-        size_t np = 0;
-        check(glcol_query_all(scene, &p, &np), "glcol_query_all");
         const GlcolContactGeometry *g = nullptr;
-        size_t ng = 0;
-        check(glcol_query_geometry(scene, &g, &ng), "glcol_query_geometry");
-        if (ng != np) {
-            S.fail(S.name + ": geometry count differs from the pair count");
-            continue;
-        }
+        size_t np = query_all_geometry(scene, S, &p, &g);
+        if (np == SIZE_MAX) continue;
         for (size_t i = 0; i < np; i++) {
             if (p[i].mesh_a != ids[0] || p[i].mesh_b != ids[1]) continue;
             double xa[4][3], xb[4][3];
@@ -978,13 +987,9 @@ void sim_scene(Checker &C, Stats &S, const std::string &dir, const std::string &
         of[id] = k;
     }
     const GlcolPair *p = nullptr;
-    size_t np = 0;
-    check(glcol_query_all(scene, &p, &np), "glcol_query_all");
     const GlcolContactGeometry *g = nullptr;
-    size_t ng = 0;
-    check(glcol_query_geometry(scene, &g, &ng), "glcol_query_geometry");
-    if (ng != np) S.fail(S.name + ": geometry count differs from the pair count");
-    for (size_t i = 0; i < np && ng == np; i++) {
+    size_t np = query_all_geometry(scene, S, &p, &g);
+    for (size_t i = 0; np != SIZE_MAX && i < np; i++) {
         const double *c[2][4];
         double x[2][4][3];
         int nv[2];
@@ -1054,16 +1059,24 @@ int main(int argc, char **argv) {
             {", placed, scale 1e-4", 1e-4, 0, {RANDOM, SLIVER, NEAR, DEGENERATE, NEAR_SLIVER}, true},
         };
         uint64_t seed = 1;
-        for (auto &F : fams)
-            for (Kind k : F.kinds) {
-                Stats S;
-                S.name = std::string(kind_name[k]) + F.tag;
-                seed++;
-                if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-                C.injected = false;
-                family(C, S, k, F.scale, F.offset, npairs, seed, F.placed);
-                all.push_back(S);
-            }
+        // One family: its own seed (counted whether it runs or not, so that --only draws
+        // the same pairs), run unless --only leaves it out.
+        auto one = [&](const std::string &name, const std::function<void(Stats &)> &run) {
+            Stats S;
+            S.name = name;
+            seed++;
+            if (!only.empty() && name.find(only) == std::string::npos) return;
+            C.injected = false;
+            run(S);
+            all.push_back(S);
+        };
+        auto families = [&](const std::vector<Fam> &list) {
+            for (auto &F : list)
+                for (Kind k : F.kinds)
+                    one(std::string(kind_name[k]) + F.tag,
+                        [&](Stats &S) { family(C, S, k, F.scale, F.offset, npairs, seed, F.placed); });
+        };
+        families(fams);
         // Quad pairs, at the origin, 1e3 off it, and placed.
         struct QFam {
             const char *tag;
@@ -1071,50 +1084,16 @@ int main(int argc, char **argv) {
             bool placed;
         };
         for (QFam F : {QFam{"", 0, false}, QFam{", offset 1e3", 1e3, false}, QFam{", placed", 0, true}})
-            for (int k = 0; k < NQUAD; k++) {
-                Stats S;
-                S.name = std::string(quad_name[k]) + F.tag;
-                seed++;
-                if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-                C.injected = false;
-                family(C, S, RANDOM, 1, F.offset, npairs / 2, seed, F.placed, k);
-                all.push_back(S);
-            }
-        // Neighbours folded through each other (self-collision's adjacent pairs): at the
-        // origin, 1e3 off it, and placed.
-        for (auto &F : std::vector<Fam>{{"", 1, 0, {SHARED}}, {", offset 1e3", 1, 1e3, {SHARED}},
-                                        {", placed", 1, 0, {SHARED}, true}}) {
-            Stats S;
-            S.name = std::string(kind_name[SHARED]) + F.tag;
-            seed++;
-            if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-            C.injected = false;
-            family(C, S, SHARED, F.scale, F.offset, npairs, seed, F.placed);
-            all.push_back(S);
-        }
-        // One random plane, rounded to floats: at the origin, 1e3 off it, and placed.
-        for (auto &F : std::vector<Fam>{{"", 1, 0, {TILTED}}, {", offset 1e3", 1, 1e3, {TILTED}},
-                                        {", placed", 1, 0, {TILTED}, true}}) {
-            Stats S;
-            S.name = std::string(kind_name[TILTED]) + F.tag;
-            seed++;
-            if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-            C.injected = false;
-            family(C, S, TILTED, F.scale, F.offset, npairs, seed, F.placed);
-            all.push_back(S);
-        }
+            for (int k = 0; k < NQUAD; k++)
+                one(std::string(quad_name[k]) + F.tag,
+                    [&](Stats &S) { family(C, S, RANDOM, 1, F.offset, npairs / 2, seed, F.placed, k); });
+        // Neighbours folded through each other (self-collision's adjacent pairs), then one
+        // random plane rounded to floats: at the origin, 1e3 off it, and placed.
+        for (Kind k : {SHARED, TILTED})
+            families({{"", 1, 0, {k}}, {", offset 1e3", 1, 1e3, {k}}, {", placed", 1, 0, {k}, true}});
         // The float range's ends: near its smallest normal numbers, and placed near its
         // largest (every product of the constructions within f64's range either way).
-        for (auto &F : std::vector<Fam>{{", scale 1e-36", 1e-36, 0, every}, {", placed, scale 1e30", 1e30, 0, every, true}})
-            for (Kind k : F.kinds) {
-                Stats S;
-                S.name = std::string(kind_name[k]) + F.tag;
-                seed++;
-                if (!only.empty() && S.name.find(only) == std::string::npos) continue;
-                C.injected = false;
-                family(C, S, k, F.scale, F.offset, npairs, seed, F.placed);
-                all.push_back(S);
-            }
+        families({{", scale 1e-36", 1e-36, 0, every}, {", placed, scale 1e30", 1e30, 0, every, true}});
         // Real meshes: the heavy organ pair and two instrument cases (the cross-check's
         // placement and warps), then the cross-check's generated scenes that stress geometry.
         std::vector<std::function<Scene()>> scenes;

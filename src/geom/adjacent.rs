@@ -1711,24 +1711,7 @@ mod tests {
                         break q.map(|x| x / n.sqrt());
                     }
                 };
-                let [w, x, y, z] = q;
-                [
-                    [
-                        1.0 - 2.0 * (y * y + z * z),
-                        2.0 * (x * y - w * z),
-                        2.0 * (x * z + w * y),
-                    ],
-                    [
-                        2.0 * (x * y + w * z),
-                        1.0 - 2.0 * (x * x + z * z),
-                        2.0 * (y * z - w * x),
-                    ],
-                    [
-                        2.0 * (x * z - w * y),
-                        2.0 * (y * z + w * x),
-                        1.0 - 2.0 * (x * x + y * y),
-                    ],
-                ]
+                crate::geom::test_rng::rotation_of(q)
             });
             let scale = r.pick(&[1.0, 1e-4, 1e4]);
             let offset = match r.below(3) {

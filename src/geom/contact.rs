@@ -3868,6 +3868,21 @@ mod tests {
         }
     }
 
+    /// A random rotation (from a random unit quaternion), as a placement's matrix.
+    fn random_rotation(r: &mut Rng) -> [[f64; 3]; 3] {
+        let q = [r.f(), r.f(), r.f(), r.f()];
+        let l = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        crate::geom::test_rng::rotation_of(q.map(|v| v / l))
+    }
+
+    /// Triangle `t` turned by `m` and moved to `c` in `f64`, as a placed mesh's world
+    /// positions (not rounded to floats, unlike `Polygon::tri`).
+    fn placed(m: &[[f64; 3]; 3], c: &P3, t: [P3; 3]) -> Polygon {
+        let t =
+            t.map(|p| [0, 1, 2].map(|k| m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + c[k]));
+        Polygon { t: [t, t], n: 1 }
+    }
+
     /// Two triangles of one mesh plane (float positions in a plane z = h), placed as a transformed
     /// mesh is: turned by a random rotation and moved, in `f64` (world positions that are
     /// not floats). The rounding leaves the planes about 1e-16 rad apart: the pair crosses
@@ -3890,34 +3905,8 @@ mod tests {
             };
             let (t, u) = (flat(r, [0.0, 0.0]), flat(r, [0.2 * s, 0.1 * s]));
             // A rotation from a random unit quaternion, then the move to `c`.
-            let q = [r.f(), r.f(), r.f(), r.f()];
-            let l = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-            let [w, x, y, z] = q.map(|v| v / l);
-            let m = [
-                [
-                    1.0 - 2.0 * (y * y + z * z),
-                    2.0 * (x * y - w * z),
-                    2.0 * (x * z + w * y),
-                ],
-                [
-                    2.0 * (x * y + w * z),
-                    1.0 - 2.0 * (x * x + z * z),
-                    2.0 * (y * z - w * x),
-                ],
-                [
-                    2.0 * (x * z - w * y),
-                    2.0 * (y * z + w * x),
-                    1.0 - 2.0 * (x * x + y * y),
-                ],
-            ];
-            let place = |t: [P3; 3]| {
-                t.map(|p| {
-                    [0, 1, 2].map(|k| m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + c[k])
-                })
-            };
-            // (Not `Polygon::tri`, which rounds to floats.)
-            let world = |t: [P3; 3]| Polygon { t: [t, t], n: 1 };
-            let (a, b) = (world(place(t)), world(place(u)));
+            let m = random_rotation(r);
+            let (a, b) = (placed(&m, c, t), placed(&m, c, u));
             if !meet(&a, &b) {
                 return Worst::default();
             }
@@ -4080,33 +4069,8 @@ mod tests {
                 } else {
                     [a[0], a[1], inside(&mut r)]
                 };
-                let qt = [r.f(), r.f(), r.f(), r.f()];
-                let l = qt.iter().map(|x| x * x).sum::<f64>().sqrt();
-                let [w, x, y, z] = qt.map(|v| v / l);
-                let m = [
-                    [
-                        1.0 - 2.0 * (y * y + z * z),
-                        2.0 * (x * y - w * z),
-                        2.0 * (x * z + w * y),
-                    ],
-                    [
-                        2.0 * (x * y + w * z),
-                        1.0 - 2.0 * (x * x + z * z),
-                        2.0 * (y * z - w * x),
-                    ],
-                    [
-                        2.0 * (x * z - w * y),
-                        2.0 * (y * z + w * x),
-                        1.0 - 2.0 * (x * x + y * y),
-                    ],
-                ];
-                let place = |t: [P3; 3]| {
-                    let t = t.map(|p| {
-                        [0, 1, 2].map(|k| m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + c[k])
-                    });
-                    Polygon { t: [t, t], n: 1 }
-                };
-                let (pa, pb) = (place(a), place(b));
+                let m = random_rotation(&mut r);
+                let (pa, pb) = (placed(&m, &c, a), placed(&m, &c, b));
                 assert!(meet(&pa, &pb));
                 let g = geometry(&pa, &pb);
                 if g.coplanar {
@@ -4154,33 +4118,8 @@ mod tests {
                     ]
                 };
                 let u = [q, up(&mut r), up(&mut r)];
-                let qt = [r.f(), r.f(), r.f(), r.f()];
-                let l = qt.iter().map(|x| x * x).sum::<f64>().sqrt();
-                let [w, x, y, z] = qt.map(|v| v / l);
-                let m = [
-                    [
-                        1.0 - 2.0 * (y * y + z * z),
-                        2.0 * (x * y - w * z),
-                        2.0 * (x * z + w * y),
-                    ],
-                    [
-                        2.0 * (x * y + w * z),
-                        1.0 - 2.0 * (x * x + z * z),
-                        2.0 * (y * z - w * x),
-                    ],
-                    [
-                        2.0 * (x * z - w * y),
-                        2.0 * (y * z + w * x),
-                        1.0 - 2.0 * (x * x + y * y),
-                    ],
-                ];
-                let place = |t: [P3; 3]| {
-                    let t = t.map(|p| {
-                        [0, 1, 2].map(|k| m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2] + c[k])
-                    });
-                    Polygon { t: [t, t], n: 1 }
-                };
-                let (a, b) = (place(t), place(u));
+                let m = random_rotation(&mut r);
+                let (a, b) = (placed(&m, &c, t), placed(&m, &c, u));
                 let g = geometry(&a, &b);
                 basic(&g);
                 assert_eq!(g.intersecting, meet(&a, &b));
