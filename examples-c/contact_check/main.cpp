@@ -24,9 +24,9 @@
 //   band          (not intersecting) -depth against the exact distance (min over vertex-simplex
 //                 and segment-segment squared distances); point_a on a and point_b on b, and
 //                 dist(point_a, b), dist(point_b, a) against the exact distance (ulps of M);
-//                 normal: the exact separation of the two polygons along it,
-//                 min_a(a.n) - max_b(b.n), against the distance (ulps of E; a wrong direction
-//                 makes it negative)
+//                 normal: the exact separation along it of the two nearest triangles
+//                 (sub-triangles of a quad), min_a(a.n) - max_b(b.n), against the distance
+//                 (ulps of E; a wrong direction makes it negative)
 // Units (float ulps, ulp(x) = 2^(floor(log2 x) - 23)): M = the pair's largest coordinate
 // magnitude (a float point cannot be nearer than half an ulp of it), E = the pair's extent
 // (largest side of its box; depth and normal come from coordinate differences, exact in f64,
@@ -504,16 +504,28 @@ struct Checker {
                      uM;
         S.bpts = std::max(S.bpts, e_p);
         if (e_p > limit) bad("band closest points (on their polygon, at the distance) / ulp(M)", e_p);
-        // The polygons' exact separation along the normal: min_a a.n - max_b b.n.
+        // The exact separation along the normal, min_a a.n - max_b b.n, of the nearest
+        // triangles (for triangles the polygons themselves; a quad bent or not convex is not
+        // separated along its closest points' direction as its hull would be): the best
+        // over the sub-triangle pairs within the limit of the distance (two may be nearest
+        // to within rounding, a vertex by a quad's diagonal; the geometry takes either).
         FT amin = 0, bmax = 0;
-        for (size_t i = 0; i < A.v.size(); i++) {
-            FT x = (A.v[i] - CGAL::ORIGIN) * n;
-            if (i == 0 || x < amin) amin = x;
-        }
-        for (size_t i = 0; i < B.v.size(); i++) {
-            FT x = (B.v[i] - CGAL::ORIGIN) * n;
-            if (i == 0 || x > bmax) bmax = x;
-        }
+        bool first = true;
+        for (auto &s : A.s)
+            for (auto &t : B.s) {
+                if (dsqrt(sq_simplices(s, t)) > d + limit * uE) continue;
+                FT lo = 0, hi = 0;
+                for (int i = 0; i <= s.dim; i++) {
+                    FT x = (s.p[i] - CGAL::ORIGIN) * n;
+                    if (i == 0 || x < lo) lo = x;
+                }
+                for (int i = 0; i <= t.dim; i++) {
+                    FT x = (t.p[i] - CGAL::ORIGIN) * n;
+                    if (i == 0 || x > hi) hi = x;
+                }
+                if (first || lo - hi > amin - bmax) amin = lo, bmax = hi;
+                first = false;
+            }
         double gap = todbl(amin - bmax) / nl;
         double e_bn = (d - gap) / uE;
         S.bnorm = std::max(S.bnorm, e_bn);
@@ -747,8 +759,15 @@ std::pair<Q4, Q4> make_quads(Gen &G, QuadKind k, int i) {
     }
     case Q_NEAR: {
         // b's first vertex h = 1e-3..1e-7 above (apart) or below (crossing) a point of a's
-        // interior or of its diagonal, its others farther on that side.
+        // interior or of its diagonal, its others farther on that side. Half of the quads
+        // are not convex: bent along the diagonal (corners 1 and 3 raised: a valley over
+        // it) or a dart (corner 3 pulled in past the diagonal).
         Q4 a = flat(0);
+        if (i % 8 >= 6) {
+            a[3] = {float(G.u(0.3, 0.6)), float(-G.u(0.05, 0.2)), 0};
+        } else if (i % 8 >= 4) {
+            a[1][2] = a[3][2] = float(G.u(1e-3, 0.3));
+        }
         double h = std::pow(10.0, G.u(-7, -3)) * (i % 2 ? 1 : -1);
         std::array<double, 3> q = i % 4 < 2 ? std::array<double, 3>{G.u(0.2, 0.8), 0, h}
                                             : std::array<double, 3>{G.u(0.3, 0.7), G.u(-0.1, 0.1), h};

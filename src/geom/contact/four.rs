@@ -127,7 +127,7 @@ fn distance_accurately(t: &[W; 3], p: &W) -> F {
         let (t, tl) = two_prod(nh, x);
         let (s, e4) = two_sum(hi, t);
         hi = s;
-        lo = lo + (((e4 + tl) + nl * x) + nh * xl);
+        lo = lo + (((e4 + tl) + nl * x) + (nh * xl + nl * xl));
     }
     hi + lo
 }
@@ -220,7 +220,8 @@ fn accurate(t: &[W; 3], v: &W, x: F, shaky: M) -> F {
     let zero = x.like(0.0);
     let y = distance_accurately(t, v);
     let same = y.gt(zero).xor(x.gt(zero)).not();
-    shaky.and(same).and(y.eq(zero).not()).sel(y, x)
+    let finite = y.abs().lt(zero.like(f64::INFINITY));
+    shaky.and(same).and(y.eq(zero).not()).and(finite).sel(y, x)
 }
 
 /// The cut of triangle `v` by `plane` (`d`: its vertices' distances to it, all non-zero,
