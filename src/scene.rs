@@ -553,7 +553,10 @@ impl Scene {
                 return Err(Error::new(
                     ErrorKind::Unsupported,
                     format!(
-                        "mesh {} reads its positions from a GL buffer and has self-collision                          on, which runs on the CPU from positions this backend keeps on the                          GPU: turn its self-collision off, or give it its positions with                          glcol_mesh_update_positions",
+                        "mesh {} reads its positions from a GL buffer and has self-collision \
+                        on, which runs on the CPU from positions this backend keeps on the \
+                        GPU: turn its self-collision off, or give it its positions with \
+                        glcol_mesh_update_positions",
                         list[i as usize].id
                     ),
                 ));

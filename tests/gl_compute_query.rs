@@ -419,7 +419,9 @@ fn self_collision_of_a_bound_mesh_is_refused() {
     let e = s.query_all().unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unsupported, "{}", e.message);
     assert!(
-        e.message.contains(&format!("mesh {organ}")) && e.message.contains("self-collision"),
+        e.message.contains(&format!("mesh {organ}"))
+            && e.message.contains("self-collision off")
+            && !e.message.contains("  "),
         "{}",
         e.message
     );

@@ -605,7 +605,9 @@ impl Compute {
         let Some(s) = slot.filter(|_| self.gathered.contains(&id)) else {
             // (A GL error since the query dropped the GPU's copy.)
             return Err(Error::invalid(format!(
-                "mesh {id} reads its positions from a GL buffer, and the GPU no longer holds                  those the last query gathered (a GL error since?): query again for its                  contact geometry"
+                "mesh {id} reads its positions from a GL buffer, and the GPU no longer holds \
+                those the last query gathered (a GL error since?): query again for its \
+                contact geometry"
             )));
         };
         let at = gl_bytes(s.vertex_base.into(), 12, "the positions")?;

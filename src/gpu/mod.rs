@@ -800,7 +800,8 @@ pub fn gl_bytes(count: u64, item: u64, what: &str) -> Result<i32> {
             Error::new(
                 ErrorKind::OutOfMemory,
                 format!(
-                    "{what}: {count} x {item} bytes is more than one GL buffer takes here                      (2 GiB through 32-bit sizes)"
+                    "{what}: {count} x {item} bytes is more than one GL buffer takes here \
+                    (2 GiB through 32-bit sizes)"
                 ),
             )
         })
