@@ -688,24 +688,24 @@ const FACE_SLACK: f64 = 1e-12;
 
 /// A triangle's plane: `n = (t1 - t0) x (t2 - t0)` and, per component, the sum of the
 /// magnitudes of the two products behind it (the scale of its rounding error).
-struct Face {
+struct Face<'w> {
     o: V,
     n: V,
     perm: V,
     /// The triangle's corners as given (world positions): what
     /// [`Face::distance_accurately`] works from.
-    world: [P3; 3],
+    world: &'w [P3; 3],
 }
 
-impl Face {
+impl<'w> Face<'w> {
     /// The plane of `t`, whose corners are at world positions `world` (`t` is `world` or
     /// its image in a local frame).
     #[inline(always)]
-    fn of(t: &[V; 3], world: &[P3; 3]) -> Face {
+    fn of(t: &[V; 3], world: &'w [P3; 3]) -> Face<'w> {
         let e = t[1] - t[0];
         let f = t[2] - t[0];
         Face {
-            world: *world,
+            world,
             o: t[0],
             // To the ulp, even on a sliver (its plane turned by eps over its width would
             // move a depth or a distance by that times its lever).
@@ -745,7 +745,7 @@ impl Face {
     /// `eps` kept, the one of third order (`al bl xl`) dropped.
     #[inline(always)]
     fn distance_accurately(&self, p: &P3) -> f64 {
-        let [t0, t1, t2] = &self.world;
+        let [t0, t1, t2] = self.world;
         let diff = |a: &P3, b: &P3| {
             let (x, y, z) = (
                 two_sum(a[0], -b[0]),
@@ -804,7 +804,7 @@ struct Cutting<'a> {
     world: &'a [P3; 3],
     d: &'a [f64; 3],
     scale: &'a [f64; 3],
-    plane: &'a Face,
+    plane: &'a Face<'a>,
     /// The largest coordinate magnitude of the pair.
     mag: f64,
 }
@@ -816,7 +816,7 @@ impl<'a> Cutting<'a> {
         world: &'a [P3; 3],
         d: &'a [f64; 3],
         scale: &'a [f64; 3],
-        plane: &'a Face,
+        plane: &'a Face<'a>,
         mag: f64,
     ) -> Self {
         Cutting {
@@ -4097,44 +4097,38 @@ mod tests {
     /// pairs before).
     #[test]
     fn placed_neighbours_folded_flat() {
-        let mut n = 0;
-        for (f, &(o, s)) in FRAMES.iter().enumerate() {
-            let mut r = Rng(0x7A11_0C3D ^ ((f as u64 + 1) * 0x9E37_79B9));
-            let c = [o, 0.7 * o, -0.4 * o];
-            for i in 0..300 {
-                let h = f32r(r.f() * s);
-                let a = [
-                    [0.0, 0.0, h],
-                    [f32r(s), 0.0, h],
-                    [
-                        f32r(s * (0.5 + 0.4 * r.f())),
-                        f32r(s * (0.65 + 0.35 * r.f())),
-                        h,
-                    ],
-                ];
-                let inside = |r: &mut Rng| {
-                    let w1 = 0.05 + 0.4 * r.f().abs();
-                    let w2 = 0.05 + 0.4 * r.f().abs();
-                    [f32r(w1 * a[1][0] + w2 * a[2][0]), f32r(w2 * a[2][1]), h]
-                };
-                let b = if i % 2 == 0 {
-                    [a[0], inside(&mut r), inside(&mut r)]
-                } else {
-                    [a[0], a[1], inside(&mut r)]
-                };
-                let m = random_rotation(&mut r);
-                let (pa, pb) = (placed(&m, &c, a), placed(&m, &c, b));
-                assert!(meet(&pa, &pb));
-                let g = geometry(&pa, &pb);
-                if g.coplanar {
-                    continue;
-                }
-                n += 1;
-                let w = placed_ends(&pa, &pb);
-                assert_within(&w, 16.0);
+        let mut i = 0;
+        let w = run("placed neighbours, folded flat", 16.0, |r, c, s| {
+            i += 1;
+            let h = f32r(r.f() * s);
+            let a = [
+                [0.0, 0.0, h],
+                [f32r(s), 0.0, h],
+                [
+                    f32r(s * (0.5 + 0.4 * r.f())),
+                    f32r(s * (0.65 + 0.35 * r.f())),
+                    h,
+                ],
+            ];
+            let inside = |r: &mut Rng| {
+                let w1 = 0.05 + 0.4 * r.f().abs();
+                let w2 = 0.05 + 0.4 * r.f().abs();
+                [f32r(w1 * a[1][0] + w2 * a[2][0]), f32r(w2 * a[2][1]), h]
+            };
+            let b = if i % 2 == 0 {
+                [a[0], inside(r), inside(r)]
+            } else {
+                [a[0], a[1], inside(r)]
+            };
+            let m = random_rotation(r);
+            let (pa, pb) = (placed(&m, c, a), placed(&m, c, b));
+            assert!(meet(&pa, &pb));
+            if geometry(&pa, &pb).coplanar {
+                return Worst::default();
             }
-        }
-        assert!(n > 1000, "{n}");
+            placed_ends(&pa, &pb)
+        });
+        assert!(w.cases > 1000, "{w:?}");
     }
 
     /// A vertex of b on an edge or a corner of a (float positions in a plane z = h, b's
@@ -4146,64 +4140,64 @@ mod tests {
     /// distance in 226 of 2,996 pairs before `separating`).
     #[test]
     fn placed_touching_band_normals() {
-        let mut apart = 0;
-        for (f, &(o, s)) in FRAMES.iter().enumerate() {
-            let mut r = Rng(0x51ED_2701 ^ ((f as u64 + 1) * 0x9E37_79B9));
-            let c = [o, 0.7 * o, -0.4 * o];
-            for i in 0..400 {
-                let h = f32r(r.f() * s);
-                let t = [
-                    [0.0, 0.0, h],
-                    [f32r(s), 0.0, h],
-                    [f32r(0.25 * s), f32r(s), h],
-                ];
-                let q = if i % 2 == 0 {
-                    [f32r(s * (0.1 + 0.8 * r.f().abs())), 0.0, h]
-                } else {
-                    t[1]
-                };
-                let up = |r: &mut Rng| {
-                    let d = r.v(0.5 * s);
-                    [
-                        f32r(q[0] + d[0]),
-                        f32r(q[1] + d[1]),
-                        f32r(h + s * (0.1 + r.f().abs())),
-                    ]
-                };
-                let u = [q, up(&mut r), up(&mut r)];
-                let m = random_rotation(&mut r);
-                let (a, b) = (placed(&m, &c, t), placed(&m, &c, u));
-                let g = geometry(&a, &b);
-                basic(&g);
-                assert_eq!(g.intersecting, meet(&a, &b));
-                if g.intersecting {
-                    continue;
-                }
-                apart += 1;
-                let n = d3(&g.normal);
-                let proj = |p: &P3| dot3(&n, &d3(p));
-                let amin = a.t[0]
-                    .iter()
-                    .map(proj)
-                    .fold(Dd::from(f64::INFINITY), |m, x| if x < m { x } else { m });
-                let bmax = b.t[0]
-                    .iter()
-                    .map(proj)
-                    .fold(
-                        Dd::from(f64::NEG_INFINITY),
-                        |m, x| if x > m { x } else { m },
-                    );
-                let gap = (amin - bmax).f();
-                let dist = poly_poly_closest(&a, &b).0.f();
-                let unit = EPS * extent(&a, &b);
-                assert!(
-                    gap >= dist - 16.0 * unit,
-                    "gap {gap:e} < distance {dist:e}: {g:?}"
-                );
-                assert!((-g.depth - dist).abs() <= 16.0 * unit, "{g:?} vs {dist:e}");
+        let mut i = 0;
+        let w = run("placed touching, band normals", 16.0, |r, c, s| {
+            i += 1;
+            let h = f32r(r.f() * s);
+            let t = [
+                [0.0, 0.0, h],
+                [f32r(s), 0.0, h],
+                [f32r(0.25 * s), f32r(s), h],
+            ];
+            let q = if i % 2 == 0 {
+                [f32r(s * (0.1 + 0.8 * r.f().abs())), 0.0, h]
+            } else {
+                t[1]
+            };
+            let up = |r: &mut Rng| {
+                let d = r.v(0.5 * s);
+                [
+                    f32r(q[0] + d[0]),
+                    f32r(q[1] + d[1]),
+                    f32r(h + s * (0.1 + r.f().abs())),
+                ]
+            };
+            let u = [q, up(r), up(r)];
+            let m = random_rotation(r);
+            let (a, b) = (placed(&m, c, t), placed(&m, c, u));
+            let g = geometry(&a, &b);
+            basic(&g);
+            assert_eq!(g.intersecting, meet(&a, &b));
+            if g.intersecting {
+                return Worst::default();
             }
-        }
-        assert!(apart > 200, "{apart}");
+            let n = d3(&g.normal);
+            let proj = |p: &P3| dot3(&n, &d3(p));
+            let amin = a.t[0]
+                .iter()
+                .map(proj)
+                .fold(Dd::from(f64::INFINITY), |m, x| if x < m { x } else { m });
+            let bmax = b.t[0]
+                .iter()
+                .map(proj)
+                .fold(
+                    Dd::from(f64::NEG_INFINITY),
+                    |m, x| if x > m { x } else { m },
+                );
+            let gap = (amin - bmax).f();
+            let dist = poly_poly_closest(&a, &b).0.f();
+            let unit = EPS * extent(&a, &b);
+            assert!(
+                gap >= dist - 16.0 * unit,
+                "gap {gap:e} < distance {dist:e}: {g:?}"
+            );
+            Worst {
+                cases: 1,
+                distance: (-g.depth - dist).abs() / unit,
+                ..Worst::default()
+            }
+        });
+        assert!(w.cases > 200, "{w:?}");
     }
 
     /// Shallow crossings: b crosses a's plane at dihedral angles down to 1e-6 (the
