@@ -18,7 +18,7 @@ use glcollide::{Positions, Scene, SceneConfig};
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use common::backends::gl_support::{get_proc_address as gpa, Ctx, Profile};
+use common::backends::gl_support::{gl_loader, Ctx, Profile};
 use common::{bounds, wave};
 
 fn median(v: &mut [f64]) -> f64 {
@@ -151,7 +151,7 @@ fn main() {
     // current from here on.
     let _ctx = Ctx::new(Profile::Compat);
     // SAFETY: the context made above is current on this thread; the loader serves it.
-    let info = unsafe { Gl::load(gpa, std::ptr::null_mut()) }.unwrap().info;
+    let info = unsafe { Gl::load(&gl_loader) }.unwrap().info;
     let what = format!("{} / {}", info.version_string, info.renderer);
     println!("context: {what}; {frames} frames, epsilon 0.001, median of update + query\n");
     println!(
@@ -159,7 +159,7 @@ fn main() {
     );
     println!("|---|---|---:|---:|---:|---|");
     // SAFETY: the context made above is current on this thread; the loader serves it.
-    let load_gl = || unsafe { Gl::load(gpa, std::ptr::null_mut()) }.unwrap();
+    let load_gl = || unsafe { Gl::load(&gl_loader) }.unwrap();
     let mut differ = 0;
     for case in [demo(frames), organs(frames.min(20))] {
         let (cpu_ms, _, cpu) = run(&case, None);

@@ -135,12 +135,12 @@ typedef struct GlcolSceneDesc {
   // Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
   // above).
   uint32_t max_polygons_per_box;
-  // Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
-  // use, 1 = the calling thread only. `glcol_query_all` shares out its mesh pairs and
+  // Added in 0.1.1 (0.1.0's struct ends before it). Worker threads for queries: 0
+  // (default) = one per core the process may use, 1 = the calling thread only. `glcol_query_all` shares out its mesh pairs and
   // self-collision leaf pairs, `glcol_query` its leaf pairs (when the reference and the
   // meshes near it have 2048 polygons or more). The answer is identical for every count;
   // workers start once per scene (at its first query that needs them) and sleep between
-  // queries. A 0.1 struct (struct_size without this field) gets 0.
+  // queries. A 0.1.0 struct (struct_size without this field) gets 0.
   uint32_t threads;
 } GlcolSceneDesc;
 
@@ -270,13 +270,6 @@ void glcol_scene_desc_init(struct GlcolSceneDesc *desc);
 // `desc` is NULL or points to writable memory of `size` bytes.
 enum GlcolStatus glcol_scene_desc_init_sized(struct GlcolSceneDesc *desc, size_t size);
 
-// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
-// vertices_per_polygon 3). NULL is ignored.
-//
-// # Safety
-// `desc` is NULL or points to a writable, aligned `GlcolMeshDesc`.
-void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
-
 // Makes a scene. On success `*out_scene` owns it (free with `glcol_scene_destroy`); on
 // failure `*out_scene` is untouched.
 //
@@ -334,6 +327,13 @@ void glcol_scene_destroy(struct GlcolScene *scene);
 // `scene` is NULL or a live scene; `out` is NULL or writable and aligned.
 enum GlcolStatus glcol_scene_backend(const struct GlcolScene *scene, enum GlcolBackend *out);
 
+// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
+// vertices_per_polygon 3). NULL is ignored.
+//
+// # Safety
+// `desc` is NULL or points to a writable, aligned `GlcolMeshDesc`.
+void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
+
 // Adds a mesh: positions and indices are copied, the leaf boxes built. On success
 // `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
 // desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
@@ -390,27 +390,6 @@ enum GlcolStatus glcol_mesh_set_enabled(struct GlcolScene *scene, GlcolMeshId me
 // `scene` is NULL or a live scene.
 enum GlcolStatus glcol_mesh_destroy(struct GlcolScene *scene, GlcolMeshId mesh);
 
-// Collides `reference` against every other enabled mesh (the paper's five steps). On
-// success `*out_contacts` points at `*out_count` contacts sorted by (other_mesh,
-// reference_polygon, other_polygon), each pair once (NULL when the count is 0). The array
-// is owned by the scene and stays valid until the next call that takes this scene
-// non-const. Meaning: with epsilon e > 0 the other polygon meets the reference polygon's
-// viewing volume (the polygon thickened by e/2 along its normal); with e = 0 the two
-// closed polygons intersect exactly (touching counts).
-//
-// GL backends: GLCOL_STATUS_GL_UNAVAILABLE without the scene's context current (see
-// GlcolScene); a mesh bound to a GL buffer that is no longer a buffer, is mapped, or now
-// holds fewer bytes than its vertices need: GLCOL_STATUS_INVALID_ARGUMENT naming the mesh
-// and the sizes. Either way nothing changed and the last answer stays valid.
-//
-// # Safety
-// `scene` is NULL or a live scene; `out_contacts` and `out_count` are NULL or writable
-// and aligned.
-enum GlcolStatus glcol_query(struct GlcolScene *scene,
-                             GlcolMeshId reference,
-                             const struct GlcolContact **out_contacts,
-                             size_t *out_count);
-
 // Whole-scene queries (`glcol_query_all`) also collide `mesh` with itself when `on` (off
 // by default). Two polygons of one mesh that share a vertex index are adjacent: such a
 // pair is reported only when the closed polygons meet somewhere other than their shared
@@ -462,65 +441,6 @@ enum GlcolStatus glcol_mesh_set_transform(struct GlcolScene *scene,
                                           GlcolMeshId mesh,
                                           const double *m);
 
-// Every pair of polygons that meet, in one call (the meaning of `glcol_query`: exact at
-// epsilon 0, the viewing-volume band at epsilon > 0), from two different enabled meshes
-// whose filters pass, or from one enabled mesh whose self-collision is on. Each pair
-// once, (mesh_a, polygon_a) < (mesh_b, polygon_b). On success `*out_pairs` points at
-// `*out_count` pairs sorted by (mesh_a, polygon_a, mesh_b, polygon_b) (NULL when the count
-// is 0); the array is owned by the scene and stays valid until the next call that takes
-// this scene non-const (`glcol_query_geometry` excepted: it leaves it alone). The answer
-// does not depend on the backend, the thread count or the order meshes were created in;
-// meshes whose root boxes are apart cost next to nothing. On failure nothing is written
-// and `glcol_query_geometry` refuses until the next successful query.
-//
-// # Safety
-// `scene` is NULL or a live scene; `out_pairs` and `out_count` are NULL or writable and
-// aligned.
-enum GlcolStatus glcol_query_all(struct GlcolScene *scene,
-                                 const struct GlcolPair **out_pairs,
-                                 size_t *out_count);
-
-// Geometry of the pairs of the scene's last successful `glcol_query` or
-// `glcol_query_all`, in the same order: entry i describes contact (or pair) i; polygon a
-// is the reference polygon (or polygon_a), b the other. Computed at this call (a query not
-// followed by it costs nothing more), in double precision from the world positions (the
-// float positions, or their `glcol_mesh_set_transform` images) in a frame local to the
-// pair, each value then rounded to the nearest float (normals stay unit within that
-// rounding; no NaN, no infinity). On success `*out_geometry` points at
-// `*out_count` entries (NULL when 0), owned by the scene like the pairs (valid until the
-// next non-const call); the contacts or pairs arrays stay valid.
-// Rules (exact decisions, as the query's):
-// - INTERSECTING: the closed polygons meet. point_a, point_b: the two farthest-apart
-//   points of their intersection; depth, normal: the smallest translation of a that
-//   separates them (separating axes: the face normals and edge-edge crosses; for a quad,
-//   of its hull: the quad if planar and convex, else its vertices' tetrahedron, an upper
-//   bound that still separates).
-// - COPLANAR (with INTERSECTING): all vertices in one plane; depth 0, normal = a's
-//   normal, points: the ends of the overlap's longest extent.
-// - Neither (pairs within the epsilon band only): closest points, depth = minus their
-//   distance, normal from b towards a.
-// - A quad is its two triangles (v0,v1,v2), (v0,v2,v3). A degenerate polygon (a segment or
-//   a point) gets the same meanings. Where a rule gives a zero normal, the fallback is a's
-//   normal, then b's, then the cross of the two segments' directions, then a unit vector
-//   perpendicular to the line holding every vertex, then +z.
-//
-// Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
-// last query failed, or when the meshes changed since it (create, update, enable,
-// destroy, filter, self-collision, GL buffer binding). A mesh of the answer bound to a
-// GL buffer (glcol_mesh_bind_gl_buffer) is taken at the positions its query read, even if
-// the host has written the buffer since: on GL_COMPUTE they are read back from the GPU
-// (a sync point; the scene's context must be current: GL_UNAVAILABLE otherwise, and
-// GL_ERROR, the answer kept either way), and since that backend's answer for such a mesh
-// has no CPU confirmation, the INTERSECTING flag is exact where the pair list is not (a
-// pair within its rounding band gets closest points).
-//
-// # Safety
-// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
-// aligned.
-enum GlcolStatus glcol_query_geometry(struct GlcolScene *scene,
-                                      const struct GlcolContactGeometry **out_geometry,
-                                      size_t *out_count);
-
 // GL_COMPUTE backend (and a CPU scene that AUTO chose on a GL context, see below): from
 // now on the mesh reads its positions from the host's GL buffer object `gl_buffer` at
 // each query, with no copy through the CPU on GL_COMPUTE; the host keeps ownership. Vertex `i` is three floats at byte `offset + i * stride` (`stride` 0 = 12;
@@ -569,6 +489,90 @@ enum GlcolStatus glcol_mesh_bind_gl_buffer(struct GlcolScene *scene,
                                            uint32_t gl_buffer,
                                            size_t offset,
                                            size_t stride);
+
+// Collides `reference` against every other enabled mesh (the paper's five steps). On
+// success `*out_contacts` points at `*out_count` contacts sorted by (other_mesh,
+// reference_polygon, other_polygon), each pair once (NULL when the count is 0). The array
+// is owned by the scene and stays valid until the next call that takes this scene
+// non-const. Meaning: with epsilon e > 0 the other polygon meets the reference polygon's
+// viewing volume (the polygon thickened by e/2 along its normal); with e = 0 the two
+// closed polygons intersect exactly (touching counts).
+//
+// GL backends: GLCOL_STATUS_GL_UNAVAILABLE without the scene's context current (see
+// GlcolScene); a mesh bound to a GL buffer that is no longer a buffer, is mapped, or now
+// holds fewer bytes than its vertices need: GLCOL_STATUS_INVALID_ARGUMENT naming the mesh
+// and the sizes. Either way nothing changed and the last answer stays valid.
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_contacts` and `out_count` are NULL or writable
+// and aligned.
+enum GlcolStatus glcol_query(struct GlcolScene *scene,
+                             GlcolMeshId reference,
+                             const struct GlcolContact **out_contacts,
+                             size_t *out_count);
+
+// Every pair of polygons that meet, in one call (the meaning of `glcol_query`: exact at
+// epsilon 0, the viewing-volume band at epsilon > 0), from two different enabled meshes
+// whose filters pass, or from one enabled mesh whose self-collision is on. At epsilon > 0
+// a pair is reported when EITHER polygon meets the OTHER's viewing volume (so the answer
+// does not depend on which mesh is which). Each pair
+// once, (mesh_a, polygon_a) < (mesh_b, polygon_b). On success `*out_pairs` points at
+// `*out_count` pairs sorted by (mesh_a, polygon_a, mesh_b, polygon_b) (NULL when the count
+// is 0); the array is owned by the scene and stays valid until the next call that takes
+// this scene non-const (`glcol_query_geometry` excepted: it leaves it alone). The answer
+// does not depend on the backend, the thread count or the order meshes were created in;
+// meshes whose root boxes are apart cost next to nothing. On failure nothing is written
+// and `glcol_query_geometry` refuses until the next successful query.
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_pairs` and `out_count` are NULL or writable and
+// aligned.
+enum GlcolStatus glcol_query_all(struct GlcolScene *scene,
+                                 const struct GlcolPair **out_pairs,
+                                 size_t *out_count);
+
+// Geometry of the pairs of the scene's last successful `glcol_query` or
+// `glcol_query_all`, in the same order: entry i describes contact (or pair) i; polygon a
+// is the reference polygon (or polygon_a), b the other. Computed at this call (a query not
+// followed by it costs nothing more), in double precision from the world positions (the
+// float positions, or their `glcol_mesh_set_transform` images) in a frame local to the
+// pair, each value then rounded to the nearest float (normals stay unit within that
+// rounding; no NaN, no infinity). On success `*out_geometry` points at
+// `*out_count` entries (NULL when 0), owned by the scene like the pairs (valid until the
+// next non-const call); the contacts or pairs arrays stay valid.
+// Rules (exact decisions, as the query's):
+// - INTERSECTING: the closed polygons meet. point_a, point_b: the two farthest-apart
+//   points of their intersection; depth, normal: the smallest translation of a that
+//   separates them (separating axes: the face normals and edge-edge crosses; for a quad,
+//   of its hull: the quad if planar and convex, else its vertices' tetrahedron, an upper
+//   bound that still separates).
+// - COPLANAR (with INTERSECTING): all vertices in one plane; depth 0, normal = a's
+//   normal, points: the ends of the overlap's longest extent.
+// - Neither (pairs within the epsilon band only): closest points, depth = minus their
+//   distance, normal from b towards a.
+// - A quad is its two triangles (v0,v1,v2), (v0,v2,v3). A degenerate polygon (a segment or
+//   a point) gets the same meanings. Where a rule gives a zero normal, the fallback is a's
+//   normal, then b's, then the cross of the two segments' directions, then a unit vector
+//   perpendicular to the line holding every vertex, then +z.
+//
+// Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
+// last query failed, or when the meshes changed since it: any successful
+// `glcol_mesh_create`, `glcol_mesh_update_positions`, `glcol_mesh_set_enabled`,
+// `glcol_mesh_destroy`, `glcol_mesh_set_transform`, `glcol_mesh_set_filter`,
+// `glcol_mesh_set_self_collision` or `glcol_mesh_bind_gl_buffer` on the scene. A mesh of the answer bound to a
+// GL buffer (glcol_mesh_bind_gl_buffer) is taken at the positions its query read, even if
+// the host has written the buffer since: on GL_COMPUTE they are read back from the GPU
+// (a sync point; the scene's context must be current: GL_UNAVAILABLE otherwise, and
+// GL_ERROR, the answer kept either way), and since that backend's answer for such a mesh
+// has no CPU confirmation, the INTERSECTING flag is exact where the pair list is not (a
+// pair within its rounding band gets closest points).
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
+// aligned.
+enum GlcolStatus glcol_query_geometry(struct GlcolScene *scene,
+                                      const struct GlcolContactGeometry **out_geometry,
+                                      size_t *out_count);
 
 // Reads a Wavefront OBJ file (`v` and `f` lines; larger faces split into triangle fans)
 // for examples and tests. On success `*out` owns arrays to release with `glcol_obj_free`.

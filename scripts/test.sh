@@ -12,9 +12,10 @@ cargo clippy --release --locked --all-targets -q -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --release --locked --no-deps -q
 echo "== cargo test"
 log=$(mktemp)
-# Library, integration tests and benchmarks built (benchmarks are run by their own smoke
+# Library, integration tests, doc examples, and benchmarks built (benchmarks are run by their own smoke
 # check, not here).
-if ! { cargo test --release --locked --lib --tests && cargo bench --locked --no-run; } >"$log" 2>&1; then
+if ! { cargo test --release --locked --lib --tests && cargo test --release --locked --doc &&
+  cargo bench --locked --no-run; } >"$log" 2>&1; then
   grep -vE '^test .* ok$' "$log" | tail -80
   exit 1
 fi

@@ -37,6 +37,20 @@ pub(crate) fn check_polygon_count(polygons: usize, k: usize) -> Result<()> {
     Ok(())
 }
 
+impl Mesh {
+    /// Refuses, before any array is read, counts no mesh can have: more than 2^32 - 1
+    /// vertices, or `polygon_count * vertices_per_polygon` above 2^32 - 2 corners
+    /// (InvalidArgument naming the count). [`Mesh::new`] makes the same checks.
+    pub fn check_counts(
+        vertex_count: usize,
+        polygon_count: usize,
+        vertices_per_polygon: usize,
+    ) -> Result<()> {
+        check_vertex_count(vertex_count)?;
+        check_polygon_count(polygon_count, vertices_per_polygon)
+    }
+}
+
 /// Vertex positions as the caller lays them out: three `f32` per vertex (native endianness),
 /// `stride` bytes apart in a byte slice, or tightly packed points. Reading it is safe; the
 /// FFI builds the byte form from the caller's pointer.

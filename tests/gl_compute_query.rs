@@ -13,7 +13,7 @@ mod common;
 use common::backends::gl_support;
 
 use common::{place, shared_mesh, wave, TestMesh};
-use gl_support::{get_proc_address, Ctx, Profile};
+use gl_support::{gl_loader, Ctx, Profile};
 use glcollide::internals::{BruteSelector, Gl, GlComputeSelector};
 use glcollide::{Contact, ErrorKind, MeshId, Positions, QueryStats, Scene, SceneConfig};
 
@@ -482,7 +482,7 @@ fn query_all_finds_a_bound_mesh_created_elsewhere() {
 
 fn gl_scene_with(config: SceneConfig, f: impl FnOnce(&mut GlComputeSelector)) -> Scene {
     // SAFETY: a context is current on this thread (made by the caller); the loader serves it.
-    let gl = unsafe { Gl::load(get_proc_address, std::ptr::null_mut()) }.expect("GL loads");
+    let gl = unsafe { Gl::load(&gl_loader) }.expect("GL loads");
     let mut sel = GlComputeSelector::new(gl).expect("GL_COMPUTE on llvmpipe");
     f(&mut sel);
     Scene::with_selector(config, Box::new(sel)).unwrap()

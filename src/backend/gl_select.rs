@@ -74,9 +74,9 @@ impl GlSelectSelector {
     pub fn new(mut gl: Gl) -> Result<GlSelectSelector> {
         if !gl.info.fixed_function {
             return Err(unavailable(format!(
-                "GLCOL_BACKEND_GL_SELECT needs glRenderMode(GL_SELECT), which a {} context does \
-                 not have (\"{}\"); create a compatibility-profile context (or GL <= 3.0), or \
-                 use GLCOL_BACKEND_GL_COMPUTE",
+                "backend GL_SELECT needs glRenderMode(GL_SELECT), which a {} context does not \
+                 have (\"{}\"); create a compatibility-profile context (or GL <= 3.0), or use \
+                 backend GL_COMPUTE",
                 if gl.info.core_profile {
                     "core-profile"
                 } else {
@@ -87,7 +87,7 @@ impl GlSelectSelector {
         }
         if gl.info.version < (3, 0) {
             return Err(unavailable(format!(
-                "GLCOL_BACKEND_GL_SELECT needs framebuffer objects (GL 3.0); the context is \"{}\"",
+                "backend GL_SELECT needs framebuffer objects (GL 3.0); the context is \"{}\"",
                 gl.info.version_string
             )));
         }

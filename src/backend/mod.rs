@@ -14,6 +14,7 @@
 //! [`create`] makes the backend a scene asks for. The module depends on `geom`, `mesh` and
 //! `gpu`, never on `query`, `scene` or `ffi`.
 
+#[cfg(any(test, feature = "internals"))]
 pub(crate) mod brute;
 pub(crate) mod cpu;
 mod gl_compute;
@@ -24,10 +25,9 @@ pub use gl_compute::GlComputeSelector;
 pub use gl_select::GlSelectSelector;
 
 use std::collections::BTreeMap;
-use std::ffi::c_void;
 
 use crate::error::{Error, ErrorKind, Result};
-use crate::gpu::{unavailable, GetProcAddress, Gl};
+use crate::gpu::{unavailable, Gl, Lookup};
 use crate::mesh::Mesh;
 
 /// One colliding polygon pair, in the caller's numbering.
@@ -71,7 +71,7 @@ pub struct QueryStats {
 }
 
 /// The one list of backends. `with_backends!(m)` expands to `m! { /// doc \n Name, ... }`:
-/// [`Backend`] and [`Request`] are declared from it below, and the C API (`ffi`) derives its
+/// [`Backend`] and [`BackendRequest`] are declared from it below, and the C API (`ffi`) derives its
 /// value mapping from it, so no second list can drift from this one.
 macro_rules! with_backends {
     ($m:ident) => {
@@ -95,9 +95,10 @@ macro_rules! declare_backends {
             $($(#[$doc])* $backend,)*
         }
 
-        /// The backend asked for at scene creation: AUTO or one of [`Backend`]'s.
+        /// The backend asked for at scene creation: AUTO or one of [`Backend`]'s (see
+        /// [`Scene::with_backend`](crate::Scene::with_backend)).
         #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-        pub enum Request {
+        pub enum BackendRequest {
             /// The best available: see [`create`].
             Auto,
             $($(#[$doc])* $backend,)*
@@ -302,7 +303,8 @@ pub trait Selector: Send {
         Err(Error::new(
             ErrorKind::Unsupported,
             format!(
-                "glcol_mesh_bind_gl_buffer needs the GL_COMPUTE backend; this scene runs on {:?}",
+                "reading positions from a GL buffer needs the GL_COMPUTE backend; this scene runs \
+                 on {:?}",
                 self.backend()
             ),
         ))
@@ -336,49 +338,44 @@ pub trait Selector: Send {
     fn release(&mut self) {}
 }
 
-/// Makes the backend a scene asks for, loading GL through `gpa` for the current context.
-/// AUTO (as API.md says): the CPU when there is no loader, no usable context or a software
-/// renderer (llvmpipe, softpipe, SwiftShader); GL_COMPUTE on a hardware GL 4.3+ context;
-/// the CPU otherwise. A CPU chosen on a GL context keeps its entry points, so that meshes
-/// can still be bound to host buffers (read back at each query).
+/// Makes the backend a scene asks for, loading GL through `loader` for the current context.
+/// AUTO: the CPU when there is no loader, no usable context or a software renderer
+/// (llvmpipe, softpipe, SwiftShader); GL_COMPUTE on a hardware GL 4.3+ context; the CPU
+/// otherwise. A CPU chosen on a GL context keeps its entry points, so that meshes can still
+/// be bound to host buffers (read back at each query).
 ///
 /// # Safety
-/// `gpa`, when given, must be a GL loader for the calling thread's current context, called
-/// with `user_data`.
-pub unsafe fn create(
-    req: Request,
-    gpa: Option<GetProcAddress>,
-    user_data: *mut c_void,
-) -> Result<Box<dyn Selector>> {
+/// `loader`, when given, must load entry points for the calling thread's current context.
+pub unsafe fn create(req: BackendRequest, loader: Option<Lookup<'_>>) -> Result<Box<dyn Selector>> {
     let name = match req {
-        Request::Cpu => return Ok(Box::new(CpuSelector::new())),
-        Request::Auto => "GLCOL_BACKEND_AUTO",
-        Request::GlSelect => "GLCOL_BACKEND_GL_SELECT",
-        Request::GlCompute => "GLCOL_BACKEND_GL_COMPUTE",
+        BackendRequest::Cpu => return Ok(Box::new(CpuSelector::new())),
+        BackendRequest::Auto => "AUTO",
+        BackendRequest::GlSelect => "GL_SELECT",
+        BackendRequest::GlCompute => "GL_COMPUTE",
     };
-    let Some(gpa) = gpa else {
-        if req == Request::Auto {
+    let Some(loader) = loader else {
+        if req == BackendRequest::Auto {
             return Ok(Box::new(CpuSelector::new()));
         }
         return Err(unavailable(format!(
-            "{name} needs get_proc_address (it is NULL)"
+            "backend {name} needs a GL loader (none was given)"
         )));
     };
-    // SAFETY: the caller's contract: `gpa` loads for the current context with `user_data`.
-    let gl = match unsafe { Gl::load(gpa, user_data) } {
+    // SAFETY: the caller's contract: `loader` loads for the current context.
+    let gl = match unsafe { Gl::load(loader) } {
         Ok(gl) => gl,
-        Err(_) if req == Request::Auto => return Ok(Box::new(CpuSelector::new())),
-        Err(e) => return Err(Error::new(e.kind, format!("{name}: {}", e.message))),
+        Err(_) if req == BackendRequest::Auto => return Ok(Box::new(CpuSelector::new())),
+        Err(e) => return Err(Error::new(e.kind, format!("backend {name}: {}", e.message))),
     };
     match req {
-        Request::Auto if gl.info.software() || !gl.info.compute => {
+        BackendRequest::Auto if gl.info.software() || !gl.info.compute => {
             Ok(Box::new(CpuSelector::with_gl(gl)))
         }
-        Request::Auto => match GlComputeSelector::new(gl) {
+        BackendRequest::Auto => match GlComputeSelector::new(gl) {
             Ok(s) => Ok(Box::new(s)),
             Err(_) => Ok(Box::new(CpuSelector::new())),
         },
-        Request::GlSelect => Ok(Box::new(GlSelectSelector::new(gl)?)),
+        BackendRequest::GlSelect => Ok(Box::new(GlSelectSelector::new(gl)?)),
         _ => Ok(Box::new(GlComputeSelector::new(gl)?)),
     }
 }

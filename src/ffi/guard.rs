@@ -7,7 +7,7 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Once;
 
 use super::types::GlcolStatus;
-use crate::error::Error;
+use crate::Error;
 
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
@@ -132,7 +132,8 @@ pub fn last_error_ptr() -> *const c_char {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::error::{try_reserve, ErrorKind};
+    use crate::ffi::desc::try_reserve;
+    use crate::ErrorKind;
     use std::ffi::CStr;
 
     fn last_error() -> String {

@@ -5,9 +5,9 @@
 //! else the boundary needs of them is generated here from the core's one list of each
 //! concept:
 //! - statuses: the boundary's own statuses (OK, NULL_POINTER, listed in `status_table!`) and one
-//!   per [`ErrorKind`] of the same name, from `crate::error::with_error_kinds!`;
+//!   per [`ErrorKind`] of the same name, from `crate::with_error_kinds!`;
 //! - backends: AUTO and one per [`Backend`] (the same names as [`Request`]'s), from
-//!   `crate::backend::with_backends!`.
+//!   `crate::with_backends!`.
 //!
 //! The generated matches are exhaustive both ways, so a variant added to a C enum or to a
 //! core list without its counterpart is a compile error. Names are cbindgen's
@@ -17,8 +17,7 @@
 use std::ffi::CStr;
 
 use super::types::{GlcolBackend, GlcolStatus};
-use crate::backend::{with_backends, Backend, Request};
-use crate::error::{with_error_kinds, ErrorKind};
+use crate::{with_backends, with_error_kinds, Backend, BackendRequest as Request, ErrorKind};
 
 /// Length of `ident` in SCREAMING_SNAKE_CASE (an `_` before each inner capital).
 const fn screaming_len(ident: &str) -> usize {
@@ -151,9 +150,14 @@ macro_rules! backend_table {
                 Self::ALL.iter().map(|&b| b as u32).max().unwrap_or(0)
             }
 
+            /// The backend whose value is `v`, if there is one.
+            pub(crate) fn from_raw(v: u32) -> Option<GlcolBackend> {
+                Self::ALL.iter().copied().find(|b| *b as u32 == v)
+            }
+
             /// What a `GlcolBackend` value from C asks for, if it is one.
             pub(crate) fn request(v: u32) -> Option<Request> {
-                let b = Self::ALL.iter().copied().find(|b| *b as u32 == v)?;
+                let b = Self::from_raw(v)?;
                 Some(match b {
                     GlcolBackend::Auto => Request::Auto,
                     $(GlcolBackend::$backend => Request::$backend,)*
@@ -161,7 +165,6 @@ macro_rules! backend_table {
             }
 
             /// The header's name of the backend, e.g. `GLCOL_BACKEND_GL_SELECT`.
-            #[cfg(test)]
             pub(crate) fn name(self) -> &'static CStr {
                 match self {
                     GlcolBackend::Auto => c_name!(GlcolBackend, Auto),

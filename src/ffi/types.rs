@@ -99,12 +99,12 @@ pub struct GlcolSceneDesc {
     /// Leaf size; 0 (default) = the paper's rule of thumb (100 below 5000 polygons, 450
     /// above).
     pub max_polygons_per_box: u32,
-    /// Added in 0.2. Worker threads for queries: 0 (default) = one per core the process may
-    /// use, 1 = the calling thread only. `glcol_query_all` shares out its mesh pairs and
+    /// Added in 0.1.1 (0.1.0's struct ends before it). Worker threads for queries: 0
+    /// (default) = one per core the process may use, 1 = the calling thread only. `glcol_query_all` shares out its mesh pairs and
     /// self-collision leaf pairs, `glcol_query` its leaf pairs (when the reference and the
     /// meshes near it have 2048 polygons or more). The answer is identical for every count;
     /// workers start once per scene (at its first query that needs them) and sleep between
-    /// queries. A 0.1 struct (struct_size without this field) gets 0.
+    /// queries. A 0.1.0 struct (struct_size without this field) gets 0.
     pub threads: u32,
 }
 

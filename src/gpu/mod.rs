@@ -31,7 +31,7 @@ pub mod shaders {
     pub const QUERY: &str = include_str!("shaders/query.glsl");
 }
 
-use std::ffi::{c_char, c_void, CStr, CString};
+use std::ffi::{c_void, CStr, CString};
 use std::num::NonZeroU32;
 
 use glow::HasContext;
@@ -54,9 +54,6 @@ use crate::geom::Aabb;
 pub mod compat {
     include!(concat!(env!("OUT_DIR"), "/gl_compat.rs"));
 }
-
-/// The caller's loader, as the C API passes it.
-pub type GetProcAddress = unsafe extern "C" fn(*mut c_void, *const c_char) -> *mut c_void;
 
 /// What the current context is.
 #[derive(Clone, Debug)]
@@ -157,7 +154,9 @@ struct Wide {
 }
 
 /// A loader for the current context: an entry point's address, or NULL.
-type Lookup<'a> = &'a dyn Fn(&CStr) -> *const c_void;
+/// A GL loader: the address of the named entry point for the context current on the calling
+/// thread, or null (what `eglGetProcAddress` or `glXGetProcAddress` answer).
+pub type Lookup<'a> = &'a dyn Fn(&CStr) -> *const c_void;
 
 impl Wide {
     /// The entry points the context's version has.
@@ -291,7 +290,7 @@ impl HostBuffer {
                     HostCheck::Bind => format!("{who} is not a buffer object of this context"),
                     HostCheck::Use(_) => format!(
                         "{who} is no longer a buffer object of this context (deleted?); bind \
-                         another or give positions with glcol_mesh_update_positions"
+                         another or give the mesh its positions with an update"
                     ),
                 }));
             }
@@ -314,7 +313,7 @@ impl HostBuffer {
                 if when == HostCheck::Bind {
                     ""
                 } else {
-                    " (re-specified smaller since glcol_mesh_bind_gl_buffer?)"
+                    " (re-specified smaller since it was bound?)"
                 }
             )));
         }
@@ -423,15 +422,12 @@ fn fixed_function(lookup: Lookup<'_>) -> Option<compat::Gl> {
 unsafe impl Send for Gl {}
 
 impl Gl {
-    /// Loads the entry points through `gpa` for the context current on this thread.
+    /// Loads the entry points through `lookup` for the context current on this thread.
     ///
     /// # Safety
-    /// `gpa` must be a loader for the current thread's GL (called with `user_data`).
-    pub unsafe fn load(gpa: GetProcAddress, user_data: *mut c_void) -> Result<Gl> {
-        // SAFETY: the caller's contract: `gpa` is a loader called with `user_data`, and
-        // `name` is a NUL-terminated string that outlives the call.
-        let lookup = |name: &CStr| unsafe { gpa(user_data, name.as_ptr()) } as *const c_void;
-        let version_string = desktop_version(&lookup)?;
+    /// `lookup` must be a loader for the current thread's GL context.
+    pub unsafe fn load(lookup: Lookup<'_>) -> Result<Gl> {
+        let version_string = desktop_version(lookup)?;
         // SAFETY: `lookup` loads for the context current on this thread (caller's contract).
         let gl = unsafe { glow::Context::from_loader_function_cstr(lookup) };
         let ver = gl.version();
@@ -439,7 +435,7 @@ impl Gl {
         let exts = gl.supported_extensions();
         let (core_profile, compat_profile) = profile(&gl, version, exts);
         let ff = (compat_profile && !core_profile)
-            .then(|| fixed_function(&lookup))
+            .then(|| fixed_function(lookup))
             .flatten();
         let program_pipelines = ff
             .as_ref()
@@ -462,7 +458,7 @@ impl Gl {
             vendor,
             version_string,
         };
-        let wide = Wide::load(&lookup, version, exts.contains("GL_KHR_debug"));
+        let wide = Wide::load(lookup, version, exts.contains("GL_KHR_debug"));
         Ok(Gl {
             gl,
             ff,

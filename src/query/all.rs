@@ -816,7 +816,7 @@ impl AllStats {
     }
 }
 
-fn nanos_since(t: Instant) -> u64 {
+pub(crate) fn nanos_since(t: Instant) -> u64 {
     t.elapsed().as_nanos() as u64
 }
 

@@ -149,6 +149,14 @@ pub unsafe extern "C" fn get_proc_address(_user: *mut c_void, name: *const c_cha
     }
 }
 
+/// The same loader for the Rust API (`Scene::with_backend`, `GlLoader`).
+pub fn gl_loader(name: &CStr) -> *const c_void {
+    match egl() {
+        Ok((display, _)) => display.get_proc_address(name),
+        Err(_) => std::ptr::null(),
+    }
+}
+
 pub fn last_error() -> String {
     unsafe { CStr::from_ptr(glcol_last_error_message()) }
         .to_string_lossy()

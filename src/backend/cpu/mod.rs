@@ -245,7 +245,7 @@ impl Selector for CpuSelector {
         let Some(h) = self.host.as_deref_mut() else {
             return Err(Error::new(
                 ErrorKind::Unsupported,
-                "glcol_mesh_bind_gl_buffer needs GLCOL_BACKEND_GL_COMPUTE, or AUTO with a GL \
+                "reading positions from a GL buffer needs backend GL_COMPUTE, or AUTO with a GL \
                  loader; this scene was asked for the CPU backend",
             ));
         };
