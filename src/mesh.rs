@@ -5,9 +5,9 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::geom::affine::Affine;
 use crate::geom::{f32_down, f32_up, widen, Aabb, P3};
 
-/// Most vertices a mesh can have, 2^32 - 1: vertex numbers are `u32`. The one limit of the
-/// C API's `glcol_mesh_create` (checked before any array is read), [`Positions::new`] and
-/// [`Mesh::new`], all through [`check_vertex_count`].
+/// Most vertices a mesh can have, 2^32 - 1: vertex numbers are `u32`. The one limit of
+/// [`Mesh::check_counts`] (which the C API calls before any array is read),
+/// [`Positions::new`] and [`Mesh::new`], all through [`check_vertex_count`].
 pub(crate) const MAX_VERTICES: usize = u32::MAX as usize;
 
 /// Most polygon corners (polygons times vertices per polygon) a mesh can have, 2^32 - 2:

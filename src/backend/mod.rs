@@ -334,7 +334,7 @@ pub trait Selector: Send {
     }
 
     /// Deletes the backend's GL objects (the scene's context must be current). Called once,
-    /// by `glcol_scene_destroy`; dropping without it leaks them (it never calls GL).
+    /// when the scene is destroyed; dropping without it leaks them (it never calls GL).
     fn release(&mut self) {}
 }
 

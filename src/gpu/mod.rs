@@ -219,7 +219,7 @@ fn desktop_version(lookup: Lookup<'_>) -> Result<String> {
 }
 
 /// A host's buffer object that a mesh reads its positions from
-/// (`glcol_mesh_bind_gl_buffer`): vertex `i` is three floats at byte `offset + i * stride`.
+/// ([`crate::Scene::bind_gl_buffer`]): vertex `i` is three floats at byte `offset + i * stride`.
 /// Checked when bound and again before every use, since the host may re-specify, map or
 /// delete its buffer at any time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -239,7 +239,7 @@ pub struct HostBuffer {
 /// When a [`HostBuffer`] is checked (its messages differ).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HostCheck {
-    /// At `glcol_mesh_bind_gl_buffer`.
+    /// When the mesh is bound.
     Bind,
     /// Before a query reads it, for mesh `id`.
     Use(u32),

@@ -85,7 +85,7 @@ pub struct CpuSelector {
     host: Option<Box<HostPositions>>,
 }
 
-/// Host buffers a CPU scene reads back (`glcol_mesh_bind_gl_buffer` under AUTO).
+/// Host buffers a CPU scene reads back (meshes bound to GL buffers under AUTO).
 struct HostPositions {
     /// The GL of the context AUTO was created in; its sentinel is made at the first bind.
     gl: Gl,
