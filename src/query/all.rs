@@ -19,7 +19,7 @@ use crate::geom::adjacent::{
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
-use crate::geom::tritri::Plane;
+use crate::geom::tritri::{in_one_axis_plane, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::Aabb;
 use crate::geom::P3;
@@ -977,6 +977,14 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
     #[inline]
     fn scalar(&mut self, (p, q): (u32, u32)) -> bool {
         let (p, q, h) = (p as usize, q as usize, self.h);
+        if let (Some(t), 0.0) = (self.tris, h) {
+            // Two triangles in one coordinate plane (a flat sheet, a box, a floor): decided
+            // in that plane, before preparing either polygon (the lanes leave every such
+            // pair undecided: all their orientations are 0).
+            if let Some(meet) = in_one_axis_plane(&t[p], &t[q]) {
+                return meet;
+            }
+        }
         let m = self.m;
         let ip = self.prepared.get(p, || prepared(m, p));
         let iq = self.prepared.get(q, || prepared(m, q));
