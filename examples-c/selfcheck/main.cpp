@@ -18,7 +18,7 @@
 //   on opposite sides along the edge only, on the same side with area);
 // - sharing one vertex p: CGAL reports iff the edge opposite p in one meets the other
 //   triangle; for proper triangles that is "they meet beyond p" (the rule-1 argument of
-//   glcollide's src/geom/adjacent.rs: every ray from p into a triangle leaves it through
+//   glcollide's src/geom/adjacent/mod.rs: every ray from p into a triangle leaves it through
 //   the opposite edge);
 // - sharing nothing: plain exact intersection.
 // They may differ on degenerate triangles (collinear corners: CGAL's triangle predicates

@@ -1,14 +1,16 @@
 //! The nine edge pairs of the closest-point search between two triangles
-//! ([`super::closest_search`], what a pair within the band costs most), three at a time:
-//! AVX2 lanes hold the second triangle's three edges (a fourth lane repeats the first), and
-//! each of the first triangle's edges is set against them in one pass.
+//! ([`super::band::closest_search`], what a pair within the band costs most), three at a
+//! time: AVX2 lanes hold the second triangle's three edges (a fourth lane repeats the
+//! first), and each of the first triangle's edges is set against them in one pass.
 //!
-//! The operations are [`super::segment_params`]'s and the points' after it, in the same
-//! order on the same values (plain IEEE operations, no fused multiply-add; `clamp` as a
+//! The operations are [`super::band::segment_params`]'s and the points' after it, in the
+//! same order on the same values (plain IEEE operations, no fused multiply-add; `clamp` as a
 //! compare and a blend, so a NaN stays one), and its branches are blends of every case, so
 //! each pair comes out bit for bit as the scalar code gives it (the tests compare them).
 
-use super::{EdgePair, Tri, V};
+use super::band::EdgePair;
+use super::poly::Tri;
+use super::V;
 use crate::geom::lanes::{F, W};
 
 /// `W` whose lanes are the vertices `v` (x, y, z).

@@ -23,7 +23,8 @@
 
 use std::mem::MaybeUninit;
 
-use super::{ContactGeometry, FACE_SLACK, REFINE};
+use super::cut::{FACE_SLACK, REFINE};
+use super::ContactGeometry;
 use crate::geom::lanes::{sel3, sel3w, store2, transpose, transpose2, Plane, F, M, W};
 
 /// Pairs per pass.
