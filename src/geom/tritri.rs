@@ -171,6 +171,7 @@ impl Plane {
         Plane { o, n, perm }
     }
 
+    #[cfg(any(test, feature = "internals"))]
     /// True only when the three points are certainly all strictly on one side of the plane
     /// (then the triangles cannot meet). False means "ask the exact test".
     #[inline]

@@ -73,8 +73,6 @@ pub struct GlInfo {
     pub program_pipelines: bool,
     /// GL_RENDERER.
     pub renderer: String,
-    /// GL_VENDOR.
-    pub vendor: String,
     /// GL_VERSION as the GL spells it.
     pub version_string: String,
 }
@@ -441,13 +439,8 @@ impl Gl {
             .as_ref()
             .is_some_and(|f| f.BindProgramPipeline.is_loaded())
             && (version >= (4, 1) || exts.contains("GL_ARB_separate_shader_objects"));
-        // SAFETY: GL 1.0 string queries on the current context.
-        let (renderer, vendor) = unsafe {
-            (
-                gl.get_parameter_string(glow::RENDERER),
-                gl.get_parameter_string(glow::VENDOR),
-            )
-        };
+        // SAFETY: a GL 1.0 string query on the current context.
+        let renderer = unsafe { gl.get_parameter_string(glow::RENDERER) };
         let info = GlInfo {
             version,
             core_profile,
@@ -455,7 +448,6 @@ impl Gl {
             compute: version >= compute_gl_version(),
             program_pipelines,
             renderer,
-            vendor,
             version_string,
         };
         let wide = Wide::load(lookup, version, exts.contains("GL_KHR_debug"));

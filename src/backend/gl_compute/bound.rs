@@ -1,5 +1,5 @@
 //! Meshes reading their positions from a host's buffer object
-//! (`glcol_mesh_bind_gl_buffer`): the buffers checked before each query, gathered into
+//! ([`crate::Scene::bind_gl_buffer`]): the buffers checked before each query, gathered into
 //! the arena on the GPU, and read back for contact geometry.
 
 use std::collections::BTreeMap;

@@ -3,7 +3,7 @@
 //!
 //! - Every mesh's positions live in one buffer object (an arena of xyz floats, all meshes),
 //!   uploaded when a mesh's positions change, or gathered on the GPU from the host's own
-//!   buffer object (`glcol_mesh_bind_gl_buffer`: no copy through the CPU).
+//!   buffer object ([`crate::Scene::bind_gl_buffer`]: no copy through the CPU).
 //! - The whole query runs on the GPU ([`WholeQuery::run_query`], shaders/query.glsl), one
 //!   thread per test in every step: step 1 over the other meshes' leaves, step 2 over (step-1
 //!   hit, reference leaf), steps 3-4 and 5 over the tests of each leaf pair, counted by a scan
@@ -274,6 +274,7 @@ impl GlComputeSelector {
         done.map(|()| r)
     }
 
+    #[cfg(any(test, feature = "internals"))]
     /// Room the query's buffers start from (leaf pairs, step-3/4 list words, step-5 hits);
     /// they grow when a query needs more. For tests of the growth path.
     pub fn set_room(&mut self, pairs: u32, lists: u32, hits: u32) {

@@ -194,7 +194,7 @@ pub(super) fn capabilities(gl: &Gl) -> Result<u64> {
     if !gl.info.compute {
         let (major, minor) = crate::gpu::compute_gl_version();
         return Err(unavailable(format!(
-            "GLCOL_BACKEND_GL_COMPUTE needs GL {major}.{minor} (its shaders are GLSL \
+            "backend GL_COMPUTE needs GL {major}.{minor} (its shaders are GLSL \
              {major}.{minor}0: compute shaders, shader storage blocks); the context is \"{}\"",
             gl.info.version_string
         )));
@@ -211,7 +211,7 @@ pub(super) fn capabilities(gl: &Gl) -> Result<u64> {
     };
     if bindings < BINDINGS as i32 || blocks < BLOCKS as i32 {
         return Err(unavailable(format!(
-            "GLCOL_BACKEND_GL_COMPUTE needs {BINDINGS} shader storage buffer bindings and \
+            "backend GL_COMPUTE needs {BINDINGS} shader storage buffer bindings and \
              {BLOCKS} storage blocks per compute shader; this GL has {bindings} and {blocks}"
         )));
     }

@@ -3,9 +3,12 @@
 //! a projection, and no setup.
 
 use super::general::normal_axis_guess;
-use crate::geom::predicates::{drop_axis, orient2d, orient3d, P3};
+use crate::geom::predicates::{drop_axis, orient2d, P3};
+#[cfg(any(test, feature = "internals"))]
+use crate::geom::predicates::orient3d;
 use crate::geom::tritri::Plane;
 
+#[cfg(any(test, feature = "internals"))]
 /// A cheap sufficient condition for two triangles sharing vertex indices *not* to meet
 /// beyond their joint: `true` proves
 /// [`adjacent_polygons_meet`](super::adjacent_polygons_meet) false for them; `false` tells

@@ -34,6 +34,7 @@ impl Polygon {
         p
     }
 
+    #[cfg(any(test, feature = "internals"))]
     pub(super) fn from_vertices(idx: &[u32], pos: &[P3]) -> Polygon {
         let n = idx.len();
         assert!(

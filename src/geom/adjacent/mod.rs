@@ -114,7 +114,9 @@ mod joint;
 #[cfg(test)]
 mod tests;
 
-pub use certificate::{triangles_touch_only_at_joint, triangles_touch_only_at_joint_planes};
+#[cfg(any(test, feature = "internals"))]
+pub use certificate::triangles_touch_only_at_joint;
+pub use certificate::triangles_touch_only_at_joint_planes;
 use fast::fast;
 use general::general;
 use joint::{Joint, Polygon, SharedEdges};
@@ -181,6 +183,7 @@ pub fn adjacent_polygons_meet(
     polygons_meet(&a, &b)
 }
 
+#[cfg(any(test, feature = "internals"))]
 /// [`adjacent_polygons_meet`] with one position per vertex: `a_pos[k]` is the position of
 /// vertex `a_idx[k]`; 3 or 4 vertices each.
 ///

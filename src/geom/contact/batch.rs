@@ -49,6 +49,7 @@ where
     }
 }
 
+#[cfg(any(test, feature = "internals"))]
 /// A closure as [`PolygonPairs`] (this names the closure's argument types, which Rust
 /// would not infer from the trait's blanket implementation).
 pub fn polygon_pairs<E, F>(f: F) -> F
@@ -58,6 +59,7 @@ where
     f
 }
 
+#[cfg(any(test, feature = "internals"))]
 /// [`contact_geometry`] of many polygon pairs, entry `i` of `out` for pair `i`, whose
 /// triangles `fetch` writes (see [`PolygonPairs`]; an error stops the call and is
 /// returned). `known`: every pair is known to intersect (decided by the exact test: the

@@ -64,7 +64,9 @@ mod poly;
 mod tests;
 
 use band::band_triangles;
-pub use batch::{contact_geometry_into, contact_geometry_many, polygon_pairs, PolygonPairs};
+pub use batch::{contact_geometry_into, PolygonPairs};
+#[cfg(any(test, feature = "internals"))]
+pub use batch::{contact_geometry_many, polygon_pairs};
 use crossing::{segment_crossing, triangles, twin, Fast};
 use general::general;
 
