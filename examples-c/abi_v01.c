@@ -6,7 +6,7 @@
  * (the exported symbol) fills that size, no more. Creates a scene with the old struct, adds two meshes (the teapot, and a copy of it moved by a fraction of its size),
  * queries, and checks every status.
  *
- *   abi_v01 MESH_DIR      (e.g. ../shared/meshes)
+ *   abi_v01 MESH_DIR      (e.g. data, the meshes bundled with the repository)
  */
 #include "compat/glcollide_v01.h"
 
@@ -26,7 +26,7 @@ static int check(GlcolStatus s, const char *what) {
 }
 
 int main(int argc, char **argv) {
-    const char *dir = argc > 1 ? argv[1] : "../shared/meshes";
+    const char *dir = argc > 1 ? argv[1] : "data";
     if (glcol_abi_version() != GLCOL_ABI_VERSION) {
         printf("FAIL abi version %u, the 0.1 header says %u\n", glcol_abi_version(), GLCOL_ABI_VERSION);
         return 1;

@@ -18,13 +18,13 @@ if ! { cargo test --release --locked --lib --tests && cargo bench --locked --no-
   grep -vE '^test .* ok$' "$log" | tail -80
   exit 1
 fi
-grep -E '^(     Running|test result)' "$log"
+grep -E '^(     Running|test result|skipped:)' "$log"
 echo "== C examples"
 cargo build --release --locked
 make -s -C examples-c
 examples-c/build/api_errors
 examples-c/build/readme_example
-examples-c/build/abi_v01 ../shared/meshes
+examples-c/build/abi_v01 data
 # README.md shows examples-c/readme_example.c (from its #include on): keep the two identical.
 diff -u <(sed -n '/^#include <glcollide.h>/,$p' examples-c/readme_example.c) \
   <(sed -n '/^```c$/,/^```$/p' README.md | sed '1d;$d') ||

@@ -10,7 +10,7 @@ use std::ffi::c_void;
 use std::ptr::null_mut;
 
 use common::backends::{last_error, ok, FfiScene, TestScene};
-use common::TestMesh;
+use common::{has_shared, sim_part, TestMesh};
 use glcollide::ffi::*;
 use GlcolStatus as S;
 
@@ -262,14 +262,6 @@ fn try_geometry(s: &FfiScene) -> (GlcolStatus, Vec<GlcolContactGeometry>) {
     (st, unsafe { std::slice::from_raw_parts(p, n) }.to_vec())
 }
 
-fn sim_part(scene: &str, frame: u32, part: u32) -> TestMesh {
-    let p = format!(
-        "{}/../shared/meshes/sim/{scene}/frame{frame}_part{part:02}.obj",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    TestMesh::from_obj(&glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}")))
-}
-
 fn funnel() -> Vec<TestMesh> {
     (0..4).map(|p| sim_part("cloth-funnel", 227, p)).collect()
 }
@@ -421,6 +413,9 @@ fn filters_choose_the_mesh_pairs() {
 
 #[test]
 fn one_thread_and_one_per_core_answer_the_same() {
+    if !has_shared("meshes/sim/cloth-funnel") {
+        return;
+    }
     let parts = funnel();
     let mut answers = Vec::new();
     for threads in [1, 0, 3] {
@@ -501,6 +496,9 @@ fn check_geometry(s: &FfiScene, meshes: &[(u32, &TestMesh)], pairs: &[P]) -> usi
 
 #[test]
 fn geometry_of_query_all_and_of_query() {
+    if !has_shared("meshes/sim/cloth-funnel") {
+        return;
+    }
     let parts = funnel();
     let mut s = scene_with(0.001, 0);
     let ids: Vec<u32> = parts.iter().map(|m| s.add(m)).collect();

@@ -15,7 +15,7 @@
 mod common;
 
 use common::backends::SafeScene;
-use common::{shared_mesh, Rng, TestMesh};
+use common::{has_shared, shared_mesh, Rng, TestMesh};
 use glcollide::internals::contact::ContactGeometry;
 use glcollide::{ErrorKind, MeshId, Pair, Positions, Scene, SceneConfig};
 use num_bigint::BigInt;
@@ -724,6 +724,9 @@ fn an_update_is_checked_against_the_exact_box_when_the_quick_bound_fails() {
 #[test]
 #[ignore]
 fn set_transform_cost() {
+    if !has_shared("meshes/colon_100k.obj") {
+        return;
+    }
     let t = TestMesh::from_obj(&shared_mesh("colon_100k"));
     let mut s = scene(0.0, 1);
     let id = add(&mut s, &t);

@@ -7,10 +7,42 @@ pub mod oracle;
 use glcollide::obj::ObjMesh;
 use glcollide::{Contact, MeshId, Positions, Scene, SceneConfig};
 
-/// A mesh from ../shared/meshes.
+/// A mesh by name: from data/ (the meshes bundled with the repository), else from
+/// ../shared/meshes (the big ones; a test that needs one first asks [`has_shared`]).
 pub fn shared_mesh(name: &str) -> ObjMesh {
-    let p = format!("{}/../shared/meshes/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+    let root = env!("CARGO_MANIFEST_DIR");
+    let bundled = format!("{root}/data/{name}.obj");
+    let p = if std::path::Path::new(&bundled).exists() {
+        bundled
+    } else {
+        format!("{root}/../shared/meshes/{name}.obj")
+    };
     glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}"))
+}
+
+/// Part `part` of frame `frame` of a simulation scene of ../shared/meshes/sim (not
+/// bundled: ask [`has_shared`] first).
+pub fn sim_part(scene: &str, frame: u32, part: u32) -> TestMesh {
+    let p = format!(
+        "{}/../shared/meshes/sim/{scene}/frame{frame}_part{part:02}.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    TestMesh::from_obj(&glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}")))
+}
+
+/// True when `../shared/<what>` (the big shared data beside the clone, as CI has it)
+/// exists. Otherwise says `skipped: needs ../shared/<what> (<test>)` on stderr, past the
+/// test harness's capture (it captures only the print macros), so that `cargo test` shows
+/// it; the test then returns early.
+pub fn has_shared(what: &str) -> bool {
+    use std::io::Write;
+    let p = format!("{}/../shared/{what}", env!("CARGO_MANIFEST_DIR"));
+    let there = std::path::Path::new(&p).exists();
+    if !there {
+        let test = std::thread::current().name().unwrap_or("?").to_string();
+        let _ = writeln!(std::io::stderr(), "skipped: needs ../shared/{what} ({test})");
+    }
+    there
 }
 
 /// Box of a point set.
