@@ -40,7 +40,10 @@ pub fn has_shared(what: &str) -> bool {
     let there = std::path::Path::new(&p).exists();
     if !there {
         let test = std::thread::current().name().unwrap_or("?").to_string();
-        let _ = writeln!(std::io::stderr(), "skipped: needs ../shared/{what} ({test})");
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: needs ../shared/{what} ({test})"
+        );
     }
     there
 }
@@ -98,6 +101,25 @@ impl TestMesh {
             .map(|j| self.pos[self.idx[i * self.k + j] as usize])
             .collect();
         bounds(&vs)
+    }
+}
+
+/// The unit square [dx, dx + 1] x [0, 1] in the plane `z`, two triangles.
+pub fn square(z: f32, dx: f32) -> TestMesh {
+    TestMesh {
+        pos: vec![[dx, 0., z], [dx + 1., 0., z], [dx + 1., 1., z], [dx, 1., z]],
+        idx: vec![0, 1, 2, 0, 2, 3],
+        k: 3,
+    }
+}
+
+/// A 1 x 2 rectangle in the plane `x` (y in [-0.5, 0.5], z in [-1, 1]), two triangles: it
+/// crosses `square(0.0, 0.0)` when x is in [0, 1].
+pub fn wall(x: f32) -> TestMesh {
+    TestMesh {
+        pos: vec![[x, 0.5, -1.], [x, 0.5, 1.], [x, -0.5, 1.], [x, -0.5, -1.]],
+        idx: vec![0, 1, 2, 0, 2, 3],
+        k: 3,
     }
 }
 
