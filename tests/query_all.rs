@@ -18,7 +18,7 @@ fn scene(epsilon: f32, threads: u32) -> Scene {
     .unwrap()
 }
 
-/// Polygon pairs (i < j) of one mesh that meet by the rule of API.md, brute force: pairs
+/// Polygon pairs (i < j) of one mesh that meet by the rule of docs/API.md, brute force: pairs
 /// sharing a vertex index by the exact adjacency predicate, the others by the oracle (at
 /// `band > 0`, within `band` of each other by the f64 distance).
 fn brute_self(m: &TestMesh, band: f64) -> Vec<(u32, u32)> {

@@ -23,7 +23,7 @@ use num_traits::{Signed, Zero};
 
 type M = [f64; 12];
 
-/// The world position, written out as API.md defines it.
+/// The world position, written out as docs/API.md defines it.
 fn world(m: &M, p: &[f32; 3]) -> [f64; 3] {
     let (x, y, z) = (p[0] as f64, p[1] as f64, p[2] as f64);
     let mut w = [0.0; 3];
