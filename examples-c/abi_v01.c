@@ -1,7 +1,7 @@
 /*
  * abi_v01: a program written against glcollide 0.1's header (examples-c/compat/
  * glcollide_v01.h, a verbatim copy of the 0.1 include/glcollide.h) must keep working with
- * the 0.2 library: its GlcolSceneDesc has no `threads` field, so its struct_size is 0.1's
+ * the 0.1.1 library: its GlcolSceneDesc has no `threads` field, so its struct_size is 0.1's
  * size, which the library accepts with `threads` defaulted, and glcol_scene_desc_init
  * (the exported symbol) fills that size, no more. Creates a scene with the old struct, adds two meshes (the teapot, and a copy of it moved by a fraction of its size),
  * queries, and checks every status.
