@@ -35,7 +35,7 @@ struct Case {
 
 /// The README demo's scene: the scissors blade pushed into the deforming gallbladder.
 fn demo(frames: usize) -> Case {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
     let blade = load(format!("{dir}/scissors_blade.obj")).unwrap();
     let organ = load(format!("{dir}/gallbladder_glt.obj")).unwrap();
     let far = organ
@@ -81,7 +81,7 @@ fn demo(frames: usize) -> Case {
 
 /// Two organs deformed against each other: hundreds of contacts a frame.
 fn organs(frames: usize) -> Case {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
     let a = load(format!("{dir}/colon.obj")).unwrap();
     let b = load(format!("{dir}/small_intestine.obj")).unwrap();
     let (lo, hi) = bounds(&a.positions);

@@ -1,12 +1,12 @@
 /*
  * abi_v01: a program written against glcollide 0.1's header (examples-c/compat/
  * glcollide_v01.h, a verbatim copy of the 0.1 include/glcollide.h) must keep working with
- * the 0.2 library: its GlcolSceneDesc has no `threads` field, so its struct_size is 0.1's
+ * the 0.1.1 library: its GlcolSceneDesc has no `threads` field, so its struct_size is 0.1's
  * size, which the library accepts with `threads` defaulted, and glcol_scene_desc_init
  * (the exported symbol) fills that size, no more. Creates a scene with the old struct, adds two meshes (the teapot, and a copy of it moved by a fraction of its size),
  * queries, and checks every status.
  *
- *   abi_v01 MESH_DIR      (e.g. ../shared/meshes)
+ *   abi_v01 MESH_DIR      (e.g. data, the meshes bundled with the repository)
  */
 #include "compat/glcollide_v01.h"
 
@@ -26,7 +26,7 @@ static int check(GlcolStatus s, const char *what) {
 }
 
 int main(int argc, char **argv) {
-    const char *dir = argc > 1 ? argv[1] : "../shared/meshes";
+    const char *dir = argc > 1 ? argv[1] : "data";
     if (glcol_abi_version() != GLCOL_ABI_VERSION) {
         printf("FAIL abi version %u, the 0.1 header says %u\n", glcol_abi_version(), GLCOL_ABI_VERSION);
         return 1;

@@ -1,8 +1,8 @@
 /*
  * deform_demo: a scissors blade (the reference object) moving in and out of a deforming
- * gallbladder, both read from ../shared/meshes. Each frame it moves the organ's vertices,
- * hands them to glcollide, asks which polygons of the blade touch which polygons of the
- * organ, and prints the count; at the end it prints the median frame time.
+ * gallbladder, both read from data/ (or the folder given). Each frame it moves the organ's
+ * vertices, hands them to glcollide, asks which polygons of the blade touch which polygons
+ * of the organ, and prints the count; at the end it prints the median frame time.
  *
  * It runs the same motion twice, side by side in two scenes: without a response (the
  * "contacts" column) and with one (the "with response" column). In the second scene, after
@@ -70,7 +70,7 @@ static GlcolMeshId add_mesh(GlcolScene *scene, const GlcolObjMesh *m, const floa
 }
 
 int main(int argc, char **argv) {
-    const char *dir = argc > 1 ? argv[1] : "../shared/meshes";
+    const char *dir = argc > 1 ? argv[1] : "data";
     int frames = argc > 2 ? atoi(argv[2]) : 300;
     float epsilon = argc > 3 ? (float)atof(argv[3]) : 0.0f;
     if (frames < 1) frames = 1;

@@ -176,7 +176,7 @@ static void draw_mesh(DrawMesh m, float r, float g, float b, const unsigned char
 }
 
 int main(int argc, char **argv) {
-    const char *dir = argc > 1 ? argv[1] : "../shared/meshes";
+    const char *dir = argc > 1 ? argv[1] : "data";
     int frames = argc > 2 ? atoi(argv[2]) : 60;
     const char *out = argc > 3 ? argv[3] : "gl_host.png";
     if (frames < 1) frames = 1;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every benchmark in one command (README "Benchmarks"):
+# Every benchmark in one command (docs/PERFORMANCE.md):
 #   bash scripts/bench.sh [--quick] [--scale X] [--no-gl] [--only NAME] [--budget SECONDS]
 # Installs the peers' Debian packages only when missing, builds the library (release),
 # the C++ peer program (bench/peers: its driver; the engines, scenes and exact answer are the

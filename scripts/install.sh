@@ -25,7 +25,7 @@
 # file, so the installed tree may be moved). `cargo cbuild` builds the same files into
 # target/x86_64-unknown-linux-gnu/release/ without installing.
 #
-# Consumers (README "Install"): pkg-config's Cflags (-I<prefix>/include/glcollide) and the
+# Consumers (docs/INSTALL.md "Link"): pkg-config's Cflags (-I<prefix>/include/glcollide) and the
 # CMake targets make `#include <glcollide.h>` work from any prefix; the CMake targets also add
 # <prefix>/include, so <glcollide/glcollide.h> works there too (and with pkg-config when the
 # prefix is /usr or /usr/local). glcollide::glcollide is the shared library (CMake puts its

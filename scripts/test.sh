@@ -10,6 +10,10 @@ echo "== lints: rustfmt, clippy (warnings are errors; missing_docs on the public
 cargo fmt --check
 cargo clippy --release --locked --all-targets -q -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --release --locked --no-deps -q
+# House rules (README length, file sizes, src/ffi over the public API only, C names only in
+# src/ffi, docs/API.md in step with the header). Not enabled yet: src/ does not meet them
+# while it is being restructured (issue 26); uncomment once `bash scripts/check-house.sh` passes.
+# echo "== house rules"; bash scripts/check-house.sh
 echo "== cargo test"
 log=$(mktemp)
 # Library, integration tests, doc examples, and benchmarks built (benchmarks are run by their own smoke
@@ -19,13 +23,13 @@ if ! { cargo test --release --locked --lib --tests && cargo test --release --loc
   grep -vE '^test .* ok$' "$log" | tail -80
   exit 1
 fi
-grep -E '^(     Running|test result)' "$log"
+grep -E '^(     Running|test result|skipped:)' "$log"
 echo "== C examples"
 cargo build --release --locked
 make -s -C examples-c
 examples-c/build/api_errors
 examples-c/build/readme_example
-examples-c/build/abi_v01 ../shared/meshes
+examples-c/build/abi_v01 data
 # README.md shows examples-c/readme_example.c (from its #include on): keep the two identical.
 diff -u <(sed -n '/^#include <glcollide.h>/,$p' examples-c/readme_example.c) \
   <(sed -n '/^```c$/,/^```$/p' README.md | sed '1d;$d') ||

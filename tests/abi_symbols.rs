@@ -1,4 +1,4 @@
-//! ABI discipline (README "ABI and soname policy"): the shared library cargo just built
+//! ABI discipline (docs/INSTALL.md "ABI and soname policy"): the shared library cargo just built
 //! (libglcollide.so in target/<profile>/deps/, beside this test's binary) exports exactly the
 //! functions include/glcollide.h declares: nothing by accident (no Rust internals, no mangled
 //! names, no symbols of dependencies), nothing declared missing. Read with `nm -D

@@ -4,6 +4,9 @@
 //! query's, both as CPU time of this thread measured in the same process (no timing is
 //! asserted). `cargo test --release --test contact_heavy -- --nocapture`.
 
+mod common;
+
+use common::{bounds, shared_mesh, wave};
 use glcollide::internals::contact::{contact_geometry, ContactGeometry};
 use glcollide::internals::tritri::triangles_intersect;
 use glcollide::{Positions, Scene, SceneConfig};
@@ -49,38 +52,6 @@ fn least(runs: usize, mut f: impl FnMut()) -> f64 {
             (now(&t0) - s) / runs as f64
         })
         .fold(f64::INFINITY, f64::min)
-}
-
-/// A mesh from ../shared/meshes.
-fn shared_mesh(name: &str) -> glcollide::obj::ObjMesh {
-    let p = format!("{}/../shared/meshes/{name}.obj", env!("CARGO_MANIFEST_DIR"));
-    glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}"))
-}
-
-/// Box of a point set.
-fn bounds(p: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
-    p.iter().fold(
-        ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]),
-        |(lo, hi), v| {
-            (
-                [0, 1, 2].map(|k| lo[k].min(v[k])),
-                [0, 1, 2].map(|k| hi[k].max(v[k])),
-            )
-        },
-    )
-}
-
-/// The benchmarks' deformation (tests/common's `wave`): every vertex moves.
-fn wave(rest: &[[f32; 3]], amp: f32, freq: f32, phase: f32) -> Vec<[f32; 3]> {
-    rest.iter()
-        .map(|p| {
-            [
-                p[0] + amp * (phase + freq * p[1]).sin(),
-                p[1] + amp * (phase * 1.3 + freq * p[2]).sin(),
-                p[2] + amp * (phase * 0.7 + freq * p[0]).sin(),
-            ]
-        })
-        .collect()
 }
 
 /// A polygon as `contact_geometry` takes it (a triangle: its second slot unused).

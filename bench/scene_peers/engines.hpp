@@ -33,7 +33,7 @@ struct Frame {
 struct SceneEngine {
     // Half the band (epsilon / 2): 0 asks for the intersecting pairs; h > 0 for the pairs
     // within h of each other (the peers: by distance; glcollide: its viewing volumes, a
-    // subset of those, API.md). Set before build.
+    // subset of those, docs/API.md). Set before build.
     double h = 0;
     virtual ~SceneEngine() {}
     virtual std::string name() const = 0;

@@ -8,7 +8,7 @@
 //   cargo build --release && make -C bench/scene_peers && bench/scene_peers/build/scene_peers [--frames N] [--quick] [--eps REL]
 // --quick: 2 frames per scene, 27 spheres (the CI smoke: pairs must agree).
 // --eps REL: within a band of REL times the scene's extent instead of epsilon 0. No peer
-// answers glcollide's band question (a polygon meeting another's viewing volume, API.md);
+// answers glcollide's band question (a polygon meeting another's viewing volume, docs/API.md);
 // the nearest one a user of these libraries has is "which triangles are within h = epsilon
 // / 2 of each other", a superset of glcollide's pairs: Bullet's GImpact with every box grown
 // by h / 2, then FCL's triangle distance <= h (the FCL and Embree rows are left out). Its

@@ -38,7 +38,7 @@
 // Families: every base configuration at the origin, 1e3 and 1e5 off it, at scales 1e-4 and
 // 1e4, and placed by glcol_mesh_set_transform (a random rotation, at the origin and 1e3 off,
 // scale 1 and 1e-4): then the world positions are doubles that are not floats (the
-// reference takes them exactly, computed as API.md defines them), and the configurations
+// reference takes them exactly, computed as docs/API.md defines them), and the configurations
 // keep their shape to within the placement's rounding (a plane's two triangles 1e-16 rad
 // apart, a vertex 1e-17 off an edge).
 // Fails (exit 1) on: any error above --limit ulps (default 8), a flag that is not the exact
@@ -795,7 +795,7 @@ std::pair<Q4, Q4> make_quads(Gen &G, QuadKind k, int i) {
     }
 }
 
-// A position placed by the 3x4 row-major matrix m as API.md defines it: each coordinate
+// A position placed by the 3x4 row-major matrix m as docs/API.md defines it: each coordinate
 // m[r*4+0]*x + m[r*4+1]*y + m[r*4+2]*z + m[r*4+3], in that order, every product and sum
 // rounded to double (volatile: no fused multiply-add whatever the compiler flags).
 void place(const double *m, const float *x, double *out) {

@@ -10,7 +10,7 @@
 // (one thread, median of 3 queries) and, built with `make EMBREE=1`, Embree's rtcCollide.
 //
 // CGAL's notion of adjacency (CGAL 5.5, self_intersections.h, do_faces_intersect) and
-// API.md's ("polygons sharing a vertex index are reported only when they meet beyond what
+// docs/API.md's ("polygons sharing a vertex index are reported only when they meet beyond what
 // they share") agree on proper triangles:
 // - sharing an edge: CGAL reports the pair iff the four points are coplanar and the two
 //   third vertices lie on the same side of the edge; for proper triangles that is exactly

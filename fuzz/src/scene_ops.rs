@@ -81,7 +81,7 @@ impl Model {
     fn polygons(&self) -> usize {
         self.idx.len() / self.k
     }
-    /// API.md's filter: are meshes `self` and `o` collided at all?
+    /// docs/API.md's filter: are meshes `self` and `o` collided at all?
     fn collides_with(&self, o: &Model) -> bool {
         self.group & o.mask != 0 && o.group & self.mask != 0
     }

@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 make -s -C examples-c
 out=$(mktemp -d)/gl_host.png
-examples-c/build/gl_host ../shared/meshes "${FRAMES:-30}" "$out"
+examples-c/build/gl_host data "${FRAMES:-30}" "$out"
 test -s "$out"
 # The GL backends (GL_COMPUTE whole query, GL_SELECT) against the CPU on
 # the demo scene and an organ pair, 3 frames: exits 1 if any contact differs.

@@ -8,6 +8,10 @@
 # The checker must be able to fail first: with one glcollide pair dropped it has to say so.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+[ -d ../shared/meshes/sim ] || {
+  echo "skipped: needs ../shared/meshes/sim (the simulation frames; CI has ../shared)"
+  exit 0
+}
 cargo build --release --locked -q
 make -s -C examples-c/selfcheck
 bin=examples-c/selfcheck/build/selfcheck

@@ -22,7 +22,7 @@ run() {
 }
 run examples-c/build/api_errors
 run examples-c/build/readme_example
-run examples-c/build/deform_demo ../shared/meshes 3 0
-run examples-c/build/deform_demo ../shared/meshes 2 0.001
+run examples-c/build/deform_demo data 3 0
+run examples-c/build/deform_demo data 2 0.001
 rm -f "$log"
 echo "valgrind: no errors, no leaks"

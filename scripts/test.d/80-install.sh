@@ -3,6 +3,7 @@
 # temporary prefix, then builds and runs, against that prefix only,
 #   - a C program with `pkg-config --cflags --libs glcollide`,
 #   - the same C program linked statically (`pkg-config --static`),
+#   - the link lines of README.md and docs/INSTALL.md as written (prefix substituted),
 #   - a C++ program with CMake `find_package(glcollide 0.1 REQUIRED)`, shared and static,
 # and checks what they print against examples-c/consumer/expected.txt (two crossing squares,
 # 3 contacts, derived by hand in examples-c/consumer/scene.h). Also checks the installed
@@ -113,6 +114,44 @@ if cc "${cflags[@]}" "$consumer/consumer.c" $(pkg-config --cflags glcollide) "$l
 else
   bad "consumer.c does not link statically with pkg-config --static"
 fi
+
+# The link lines a reader copies (issue 26: a README line that only worked under /usr): every
+# ```sh block of README.md and docs/INSTALL.md that links `app.c`, run as written in a fresh
+# directory with the consumer as app.c, the install command left out and $HOME/.local
+# replaced by this prefix, without our PKG_CONFIG_PATH. Each program it makes (-o NAME) must
+# print the expected answer; one linked with --static must not load libglcollide.so.
+link_blocks() { # file
+  awk '/^```sh$/ { inb = 1; b = ""; next }
+       inb && /^```$/ { inb = 0; if (b ~ /cc app\.c/) printf "%s", b; next }
+       inb { b = b $0 "\n" }' "$1"
+}
+for doc in README.md docs/INSTALL.md; do
+  lines=$(link_blocks "$doc" | grep -v 'scripts/install\.sh' || true)
+  if [ -z "$lines" ]; then bad "$doc: no \`\`\`sh block links app.c"; continue; fi
+  lines=${lines//'$HOME/.local'/$prefix}
+  d="$work/doc-$(basename "$doc" .md)"
+  mkdir -p "$d"
+  cp "$consumer/consumer.c" "$d/app.c"
+  cp "$consumer"/*.h "$d/"
+  if ! (cd "$d" && env -u PKG_CONFIG_PATH bash -euo pipefail -c "$lines") >"$d/log" 2>&1; then
+    bad "$doc: its link lines fail against a prefix outside /usr:"; sed 's/^/     /' "$d/log"
+    continue
+  fi
+  # One command per line (continuations joined), then the program each one writes.
+  joined=$(sed -e ':a' -e '/\\$/N; s/\\\n//; ta' <<<"$lines")
+  made=0
+  while read -r cmd; do
+    prog=$(grep -oE -- '-o [A-Za-z0-9_]+' <<<"$cmd" | cut -d' ' -f2)
+    [ -n "$prog" ] || continue
+    made=$((made + 1))
+    check_run "$(basename "$doc") $prog" "$d/$prog"
+    if [[ "$cmd" == *--static* ]]; then
+      ldd "$d/$prog" >"$d/$prog.ldd"
+      if grep -q glcollide "$d/$prog.ldd"; then bad "$doc: $prog (static) loads libglcollide.so"; fi
+    fi
+  done < <(grep -E '^cc ' <<<"$joined")
+  [ "$made" -ge 2 ] || bad "$doc: expected a shared and a static link line, found $made programs"
+done
 
 # C++ through CMake find_package, shared and static; the prefix is found only through
 # CMAKE_PREFIX_PATH (no pkg-config involved).

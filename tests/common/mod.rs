@@ -7,10 +7,45 @@ pub mod oracle;
 use glcollide::obj::ObjMesh;
 use glcollide::{Contact, MeshId, Positions, Scene, SceneConfig};
 
-/// A mesh from ../shared/meshes.
+/// A mesh by name: from data/ (the meshes bundled with the repository), else from
+/// ../shared/meshes (the big ones; a test that needs one first asks [`has_shared`]).
 pub fn shared_mesh(name: &str) -> ObjMesh {
-    let p = format!("{}/../shared/meshes/{name}.obj", env!("CARGO_MANIFEST_DIR"));
+    let root = env!("CARGO_MANIFEST_DIR");
+    let bundled = format!("{root}/data/{name}.obj");
+    let p = if std::path::Path::new(&bundled).exists() {
+        bundled
+    } else {
+        format!("{root}/../shared/meshes/{name}.obj")
+    };
     glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}"))
+}
+
+/// Part `part` of frame `frame` of a simulation scene of ../shared/meshes/sim (not
+/// bundled: ask [`has_shared`] first).
+pub fn sim_part(scene: &str, frame: u32, part: u32) -> TestMesh {
+    let p = format!(
+        "{}/../shared/meshes/sim/{scene}/frame{frame}_part{part:02}.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    TestMesh::from_obj(&glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}")))
+}
+
+/// True when `../shared/<what>` (the big shared data beside the clone, as CI has it)
+/// exists. Otherwise says `skipped: needs ../shared/<what> (<test>)` on stderr, past the
+/// test harness's capture (it captures only the print macros), so that `cargo test` shows
+/// it; the test then returns early.
+pub fn has_shared(what: &str) -> bool {
+    use std::io::Write;
+    let p = format!("{}/../shared/{what}", env!("CARGO_MANIFEST_DIR"));
+    let there = std::path::Path::new(&p).exists();
+    if !there {
+        let test = std::thread::current().name().unwrap_or("?").to_string();
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: needs ../shared/{what} ({test})"
+        );
+    }
+    there
 }
 
 /// Box of a point set.
@@ -66,6 +101,25 @@ impl TestMesh {
             .map(|j| self.pos[self.idx[i * self.k + j] as usize])
             .collect();
         bounds(&vs)
+    }
+}
+
+/// The unit square [dx, dx + 1] x [0, 1] in the plane `z`, two triangles.
+pub fn square(z: f32, dx: f32) -> TestMesh {
+    TestMesh {
+        pos: vec![[dx, 0., z], [dx + 1., 0., z], [dx + 1., 1., z], [dx, 1., z]],
+        idx: vec![0, 1, 2, 0, 2, 3],
+        k: 3,
+    }
+}
+
+/// A 1 x 2 rectangle in the plane `x` (y in [-0.5, 0.5], z in [-1, 1]), two triangles: it
+/// crosses `square(0.0, 0.0)` when x is in [0, 1].
+pub fn wall(x: f32) -> TestMesh {
+    TestMesh {
+        pos: vec![[x, 0.5, -1.], [x, 0.5, 1.], [x, -0.5, 1.], [x, -0.5, -1.]],
+        idx: vec![0, 1, 2, 0, 2, 3],
+        k: 3,
     }
 }
 

@@ -1,214 +1,18 @@
-//! What 0.2 adds to the C API, through the C API only: growing structs (a 0.1
-//! GlcolSceneDesc is accepted, `threads` defaulted), whole-scene queries, self-collision,
-//! filters, threads, and contact geometry.
+//! Whole scenes through the C API only: `glcol_query_all` (the union of the per-mesh
+//! queries), self-collision and the adjacency rule, filters, threads, contact geometry
+//! (`glcol_query_geometry`: its meaning, and when it refuses) and rigid placement
+//! (`glcol_mesh_set_transform`).
 
 #![allow(clippy::missing_safety_doc)]
 
 mod common;
 
-use std::ffi::c_void;
 use std::ptr::null_mut;
 
 use common::backends::{last_error, ok, FfiScene, TestScene};
-use common::TestMesh;
+use common::{has_shared, sim_part, square, wall, TestMesh};
 use glcollide::ffi::*;
 use GlcolStatus as S;
-
-/// GlcolSceneDesc as glcollide 0.1's header declares it (no `threads`).
-#[repr(C)]
-#[derive(Clone, Copy)]
-struct SceneDescV01 {
-    struct_size: u32,
-    backend: u32,
-    get_proc_address: GlcolGetProcAddress,
-    user_data: *mut c_void,
-    epsilon: f32,
-    max_polygons_per_box: u32,
-}
-
-/// A 0.1 struct followed by bytes it does not own (what a 0.1 caller may have after it).
-#[repr(C)]
-struct V01WithTail {
-    d: SceneDescV01,
-    tail: [u32; 4],
-}
-
-fn v01_desc() -> SceneDescV01 {
-    SceneDescV01 {
-        struct_size: std::mem::size_of::<SceneDescV01>() as u32,
-        backend: GlcolBackend::Cpu as u32,
-        get_proc_address: None,
-        user_data: null_mut(),
-        epsilon: 0.0,
-        max_polygons_per_box: 0,
-    }
-}
-
-fn square(z: f32, dx: f32) -> TestMesh {
-    TestMesh {
-        pos: vec![[dx, 0., z], [dx + 1., 0., z], [dx + 1., 1., z], [dx, 1., z]],
-        idx: vec![0, 1, 2, 0, 2, 3],
-        k: 3,
-    }
-}
-
-fn wall(x: f32) -> TestMesh {
-    TestMesh {
-        pos: vec![[x, 0.5, -1.], [x, 0.5, 1.], [x, -0.5, 1.], [x, -0.5, -1.]],
-        idx: vec![0, 1, 2, 0, 2, 3],
-        k: 3,
-    }
-}
-
-#[test]
-fn a_v01_scene_desc_is_accepted_with_threads_defaulted() {
-    let size = std::mem::size_of::<GlcolSceneDesc>();
-    let old = std::mem::size_of::<SceneDescV01>();
-    assert_eq!(old, std::mem::offset_of!(GlcolSceneDesc, threads));
-    assert!(old < size);
-    // The bytes after the 0.1 struct hold u32::MAX: were they read as `threads`, the call
-    // would fail (at most 1024 threads). It succeeds, so they were not read.
-    let d = V01WithTail {
-        d: v01_desc(),
-        tail: [u32::MAX; 4],
-    };
-    let mut s: *mut GlcolScene = null_mut();
-    let st = unsafe { glcol_scene_create((&d.d as *const SceneDescV01).cast(), &mut s) };
-    ok(st, "0.1-sized desc");
-    let mut scene = FfiScene(s);
-    let a = scene.add(&square(0., 0.));
-    let b = scene.add(&wall(0.5));
-    let hits = scene.query(a);
-    assert!(
-        !hits.is_empty() && hits.iter().all(|h| h.0 == b),
-        "{hits:?}"
-    );
-
-    // The full size reads `threads`: u32::MAX is refused, naming the field.
-    let mut full = unsafe { std::mem::zeroed::<GlcolSceneDesc>() };
-    unsafe { glcol_scene_desc_init_sized(&mut full, std::mem::size_of::<GlcolSceneDesc>()) };
-    assert_eq!(full.struct_size as usize, size);
-    assert_eq!(full.threads, 0);
-    full.threads = u32::MAX;
-    let mut s2: *mut GlcolScene = null_mut();
-    assert_eq!(
-        unsafe { glcol_scene_create(&full, &mut s2) },
-        S::InvalidArgument
-    );
-    assert!(last_error().contains("threads"), "{}", last_error());
-    assert!(s2.is_null());
-}
-
-/// `glcol_scene_desc_init` (the symbol 0.1 programs call) writes 0.1's struct and nothing
-/// past it; `glcol_scene_desc_init_sized` (what the header's macro calls) writes exactly
-/// the size it is given, refusing other sizes without writing.
-#[test]
-fn the_desc_init_functions_write_no_byte_past_the_callers_struct() {
-    let size = std::mem::size_of::<GlcolSceneDesc>();
-    let old = std::mem::size_of::<SceneDescV01>();
-    #[repr(C)]
-    struct Room {
-        d: GlcolSceneDesc,
-        tail: [u8; 64],
-    }
-    // The bytes written, as (first byte not 0xA5 from the end: how far the call wrote,
-    // the bytes before `threads`' end); the struct's tail padding is never read (it may be
-    // left uninitialised by a typed copy).
-    let fields_end = std::mem::offset_of!(GlcolSceneDesc, threads) + 4;
-    let written = |f: &dyn Fn(*mut GlcolSceneDesc)| -> (Vec<u8>, usize) {
-        let mut room: Room = unsafe { std::mem::zeroed() };
-        let p = (&mut room as *mut Room).cast::<u8>();
-        let total = std::mem::size_of::<Room>();
-        unsafe { std::ptr::write_bytes(p, 0xA5, total) };
-        f(&mut room.d);
-        let head = unsafe { std::slice::from_raw_parts(p, fields_end) }.to_vec();
-        let tail = unsafe { std::slice::from_raw_parts(p.add(size), total - size) };
-        let end = if let Some(i) = tail.iter().rposition(|&b| b != 0xA5) {
-            size + i + 1
-        } else {
-            head.iter().rposition(|&b| b != 0xA5).map_or(0, |i| i + 1)
-        };
-        (head, end)
-    };
-    // 0.1's symbol: 0.1's size, defaults, struct_size = 0.1's size.
-    let (b, end) = written(&|d| unsafe { glcol_scene_desc_init(d) });
-    assert!(
-        end <= old,
-        "glcol_scene_desc_init wrote {end} bytes, 0.1's struct has {old}"
-    );
-    let d = unsafe { std::ptr::read_unaligned(b.as_ptr().cast::<SceneDescV01>()) };
-    assert_eq!(d.struct_size as usize, old);
-    assert_eq!(d.backend, GlcolBackend::Auto as u32);
-    assert!(d.get_proc_address.is_none() && d.user_data.is_null());
-    assert_eq!((d.epsilon, d.max_polygons_per_box), (0.0, 0));
-    // A scene made from it works, with threads defaulted.
-    let mut s: *mut GlcolScene = null_mut();
-    ok(
-        unsafe { glcol_scene_create((&d as *const SceneDescV01).cast(), &mut s) },
-        "scene from glcol_scene_desc_init",
-    );
-    drop(FfiScene(s));
-    // The sized one, for both versions: exactly that many bytes.
-    for n in [old, size] {
-        let (b, end) = written(&|d| {
-            ok(unsafe { glcol_scene_desc_init_sized(d, n) }, "init_sized");
-        });
-        assert!(end <= n, "init_sized({n}) wrote {end} bytes");
-        assert_eq!(u32::from_ne_bytes(b[..4].try_into().unwrap()) as usize, n);
-        if n == size {
-            let threads = &b[fields_end - 4..];
-            assert_eq!(u32::from_ne_bytes(threads.try_into().unwrap()), 0);
-        }
-    }
-    // Other sizes: INVALID_ARGUMENT naming the valid sizes, nothing written; NULL refused.
-    for bad in [0, 4, old - 4, old + 4, size + 8, usize::MAX] {
-        let (_, end) = written(&|d| {
-            assert_eq!(
-                unsafe { glcol_scene_desc_init_sized(d, bad) },
-                S::InvalidArgument
-            );
-        });
-        assert_eq!(end, 0, "init_sized({bad}) wrote");
-        let m = last_error();
-        assert!(
-            m.contains(&old.to_string()) && m.contains(&size.to_string()),
-            "{m}"
-        );
-    }
-    assert_eq!(
-        unsafe { glcol_scene_desc_init_sized(null_mut(), size) },
-        S::NullPointer
-    );
-    assert!(last_error().contains("desc"), "{}", last_error());
-}
-
-#[test]
-fn a_size_between_the_versions_is_refused_naming_both() {
-    let size = std::mem::size_of::<GlcolSceneDesc>();
-    let old = std::mem::offset_of!(GlcolSceneDesc, threads);
-    for bad in (old + 1..size).chain([old - 4, old - 8, size + 4, size + 8]) {
-        let mut d = unsafe { std::mem::zeroed::<GlcolSceneDesc>() };
-        unsafe { glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>()) };
-        d.struct_size = bad as u32;
-        let mut s: *mut GlcolScene = null_mut();
-        assert_eq!(
-            unsafe { glcol_scene_create(&d, &mut s) },
-            S::InvalidArgument,
-            "struct_size {bad}"
-        );
-        let m = last_error();
-        assert!(
-            m.contains("struct_size")
-                && m.contains(&size.to_string())
-                && m.contains(&old.to_string()),
-            "{m}"
-        );
-        assert!(s.is_null());
-    }
-}
-
-// ---------------------------------------------------------------------------------------
-// Whole-scene queries, self-collision, filters, threads, geometry (C API only).
 
 type P = (u32, u32, u32, u32);
 
@@ -260,14 +64,6 @@ fn try_geometry(s: &FfiScene) -> (GlcolStatus, Vec<GlcolContactGeometry>) {
         return (st, Vec::new());
     }
     (st, unsafe { std::slice::from_raw_parts(p, n) }.to_vec())
-}
-
-fn sim_part(scene: &str, frame: u32, part: u32) -> TestMesh {
-    let p = format!(
-        "{}/../shared/meshes/sim/{scene}/frame{frame}_part{part:02}.obj",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    TestMesh::from_obj(&glcollide::obj::load(&p).unwrap_or_else(|e| panic!("{p}: {e}")))
 }
 
 fn funnel() -> Vec<TestMesh> {
@@ -421,6 +217,9 @@ fn filters_choose_the_mesh_pairs() {
 
 #[test]
 fn one_thread_and_one_per_core_answer_the_same() {
+    if !has_shared("meshes/sim/cloth-funnel") {
+        return;
+    }
     let parts = funnel();
     let mut answers = Vec::new();
     for threads in [1, 0, 3] {
@@ -501,6 +300,9 @@ fn check_geometry(s: &FfiScene, meshes: &[(u32, &TestMesh)], pairs: &[P]) -> usi
 
 #[test]
 fn geometry_of_query_all_and_of_query() {
+    if !has_shared("meshes/sim/cloth-funnel") {
+        return;
+    }
     let parts = funnel();
     let mut s = scene_with(0.001, 0);
     let ids: Vec<u32> = parts.iter().map(|m| s.add(m)).collect();
@@ -600,6 +402,90 @@ fn geometry_errors() {
         }
         assert_eq!(try_geometry(&s).0, S::InvalidArgument, "change {change}");
     }
+}
+
+/// docs/API.md: `glcol_query_geometry` refuses after any successful change since the
+/// query, the ones `geometry_errors` leaves out included (a mesh created, self-collision,
+/// a transform, also NULL = the identity it already had); a call that fails changed
+/// nothing and leaves it answering.
+#[test]
+fn geometry_refuses_after_any_change_and_not_after_a_failed_call() {
+    let mut s = scene_with(0.0, 1);
+    let q = square(0., 0.);
+    let a = s.add(&q);
+    let b = s.add(&wall(0.5));
+    let identity = std::ptr::null::<f64>();
+    for change in 0..4 {
+        let n = all(&s).len();
+        assert_eq!(try_geometry(&s).1.len(), n, "fresh before change {change}");
+        match change {
+            0 => {
+                s.add(&square(5., 0.));
+            }
+            1 => ok(
+                unsafe { glcol_mesh_set_self_collision(s.0, a, false) },
+                "self-collision",
+            ),
+            2 => ok(
+                unsafe { glcol_mesh_set_transform(s.0, b, identity) },
+                "transform",
+            ),
+            _ => {
+                let m: [f64; 12] = [1., 0., 0., 0.25, 0., 1., 0., 0., 0., 0., 1., 0.];
+                ok(
+                    unsafe { glcol_mesh_set_transform(s.0, b, m.as_ptr()) },
+                    "transform",
+                )
+            }
+        }
+        assert_eq!(try_geometry(&s).0, S::InvalidArgument, "change {change}");
+    }
+    // Failed calls: a NaN transform, an unknown mesh, an update with a NaN.
+    let n = all(&s).len();
+    let nan: [f64; 12] = [f64::NAN; 12];
+    assert_eq!(
+        unsafe { glcol_mesh_set_transform(s.0, b, nan.as_ptr()) },
+        S::NonFinite
+    );
+    assert_eq!(
+        unsafe { glcol_mesh_set_filter(s.0, 0, 1, 1) },
+        S::UnknownMesh
+    );
+    let bad = [[f32::NAN, 0., 0.]; 4];
+    let st = unsafe { glcol_mesh_update_positions(s.0, a, bad.as_ptr().cast(), 0, 4, 0) };
+    assert_eq!(st, S::NonFinite);
+    let (st, g) = try_geometry(&s);
+    ok(st, "geometry after failed calls");
+    assert_eq!(g.len(), n);
+}
+
+/// docs/API.md: within a band (epsilon > 0) `glcol_query_all` reports a pair when either
+/// polygon meets the other's viewing volume. Here the wall (x = 1 + d, d < epsilon/2) meets
+/// nothing of the square's thin volume (x <= 1), while the square's edge x = 1 lies in the
+/// wall's volume: `glcol_query` with the square as reference finds nothing, with the wall
+/// as reference it finds the pair, and `glcol_query_all` reports it. Never COPLANAR, and
+/// not INTERSECTING.
+#[test]
+fn a_band_pair_is_reported_when_either_polygon_meets_the_others_volume() {
+    let eps = 0.1f32;
+    let mut s = scene_with(eps, 1);
+    let flat = s.add(&square(0., 0.));
+    let upright = s.add(&wall(1.0 + eps / 4.0));
+    assert!(
+        s.query(flat).is_empty(),
+        "the square's volume holds no wall polygon"
+    );
+    let from_wall = s.query(upright);
+    assert!(!from_wall.is_empty());
+    let pairs = all(&s);
+    let want: Vec<P> = from_wall
+        .iter()
+        .map(|&(o, rp, op)| (o, op, upright, rp))
+        .collect();
+    assert_eq!(pairs, want);
+    let (st, g) = try_geometry(&s);
+    ok(st, "geometry");
+    assert!(g.iter().all(|g| g.flags == 0 && g.depth < 0.0), "{g:?}");
 }
 
 // ---------------------------------------------------------------------------------------
