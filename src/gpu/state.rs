@@ -3,8 +3,8 @@
 //! [`StateGuard::enter`] takes the host's pending GL error (kept, not ours), saves every
 //! piece of state a backend may change, and its `Drop` (or [`StateGuard::finish`]) puts
 //! all of it back, so even a panic caught at the C boundary leaves the host's state as it
-//! was. What is saved and restored is listed once, for users, in README.md "GL backends"
-//! (the GL contract): `save` and `restore` below are what it describes, tests/gl_state.rs
+//! was. What is saved and restored is listed once, for users, in docs/API.md "GL state is
+//! left as it was found" (the GL contract): `save` and `restore` below are what it describes, tests/gl_state.rs
 //! checks it, and the three change together. Fixed-function state (GL_SELECT) and the
 //! indexed buffer bindings (GL_COMPUTE) are saved as far as [`Uses`] says a backend touches
 //! them. Never touched, so never saved: the transform feedback object and buffer bindings,

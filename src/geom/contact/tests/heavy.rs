@@ -1,25 +1,17 @@
-//! The benchmarks' heavy case (meshes read from `../shared/meshes`; skipped, saying so,
-//! where they are absent): every pair its queries report, against the references.
+//! The benchmarks' heavy case (the meshes bundled in `data/`): every pair its queries
+//! report, against the references.
 
 use super::support::*;
 
 /// Every pair the query reports on the benchmarks' heavy case (colon against small
 /// intestine, overlapping, opposite warps), with epsilon 0 and within a band: every
-/// check, against the references. Skipped when ../shared/meshes is absent.
+/// check, against the references.
 #[test]
 fn heavy_case_pairs_against_references() {
     use crate::{Positions, Scene, SceneConfig};
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes");
-    let (ma, mb) = match (
-        crate::obj::load(format!("{dir}/colon.obj")),
-        crate::obj::load(format!("{dir}/small_intestine.obj")),
-    ) {
-        (Ok(ma), Ok(mb)) => (ma, mb),
-        (Err(e), _) | (_, Err(e)) => {
-            eprintln!("heavy_case_pairs_against_references skipped: {e}");
-            return;
-        }
-    };
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+    let ma = crate::obj::load(format!("{dir}/colon.obj")).unwrap();
+    let mb = crate::obj::load(format!("{dir}/small_intestine.obj")).unwrap();
     let extent = (0..3)
         .map(|k| {
             let (lo, hi) = ma
