@@ -276,7 +276,7 @@ enum GlcolStatus glcol_scene_desc_init_sized(struct GlcolSceneDesc *desc, size_t
 // GL backends load their entry points through `desc->get_proc_address` for the context
 // current on the calling thread, and every later GL-backed call of the scene must run
 // with that context (or one sharing its objects) current. Every GL-backed call leaves the
-// host's GL state as it found it (see README "GL backends") and answers
+// host's GL state as it found it (the list: docs/API.md, "GL state is left as it was found") and answers
 // GLCOL_STATUS_GL_ERROR, naming the GL error, if the GL reports one during its work.
 // - GLCOL_BACKEND_AUTO: GLCOL_BACKEND_GL_COMPUTE on a hardware GL 4.3+ context; the CPU
 //   backend when there is no loader or no current context, or on a software renderer
@@ -299,8 +299,8 @@ enum GlcolStatus glcol_scene_desc_init_sized(struct GlcolSceneDesc *desc, size_t
 // - `desc->struct_size`: `sizeof(GlcolSceneDesc)` of this header, or of 0.1's (without
 //   `threads`, which then is 0): a program built against 0.1 keeps working. Nothing past
 //   struct_size is read. Any other size: INVALID_ARGUMENT, the message names both sizes.
-// - `desc->threads`: workers started here, once for the scene (0 = one per core; at most
-//   1024, else INVALID_ARGUMENT).
+// - `desc->threads`: workers for the scene's queries, started once, at its first query
+//   that needs them (0 = one per core; at most 1024, else INVALID_ARGUMENT).
 //
 // # Safety
 // `desc` is NULL or points to a readable `GlcolSceneDesc` of `desc->struct_size` bytes,
