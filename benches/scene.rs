@@ -1,5 +1,6 @@
 //! Whole-scene queries (`Scene::query_all`, CPU backend) on the real simulation frames of
-//! ../shared/meshes/sim and on a generated scene of many small bodies: per frame, the update
+//! ../shared/meshes/sim, on a generated scene of many small bodies, and on flat and jittered
+//! cloths (100x100, 300x300): per frame, the update
 //! of every mesh (frame N, then N+1, alternately: a real deformation step) and one query with
 //! every mesh self-colliding, median over repeated frames, for 1 and 2 threads, exact and
 //! within 1e-3 of the scene's extent. Prints a Markdown table.
@@ -198,6 +199,43 @@ fn rolled_cloth_case() -> Case {
     }
 }
 
+/// An n x n cloth of 2 n^2 triangles over [0, 1]^2 in the plane z = 0 (the usual first frame
+/// of a cloth simulation: every z equal), or with z jittered by up to `jitter` (the same
+/// cloth, not flat); both frames the same positions. Issue 27: a flat mesh must cost no more
+/// than a curved one of its size.
+fn sheet_case(n: u32, jitter: f32) -> Case {
+    let mut pos = Vec::new();
+    let mut r = 0x2545_F491_4F6C_DD1Du64;
+    for j in 0..=n {
+        for i in 0..=n {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            let z = jitter * ((r >> 40) as f32 / (1u64 << 24) as f32 - 0.5);
+            pos.push([i as f32 / n as f32, j as f32 / n as f32, z]);
+        }
+    }
+    let mut tris = Vec::new();
+    let w = n + 1;
+    for j in 0..n {
+        for i in 0..n {
+            let v = j * w + i;
+            tris.extend([v, v + 1, v + w + 1, v, v + w + 1, v + w]);
+        }
+    }
+    let what = if jitter == 0.0 {
+        "flat".to_string()
+    } else {
+        format!("jittered {jitter:e}")
+    };
+    Case {
+        name: format!("{what} cloth {n}x{n}"),
+        idx: vec![tris],
+        frames: [vec![pos.clone()], vec![pos]],
+        extent: 1.0,
+    }
+}
+
 /// Median ms per frame (update every mesh + query_all), pairs in the last frame, the
 /// stages of the median query.
 fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64, usize, AllStats) {
@@ -333,6 +371,14 @@ fn main() {
         .collect();
     if keep("rolled cloth") {
         cases.push(rolled_cloth_case());
+    }
+    for n in [100, 300] {
+        for jitter in [0.0, 1e-4] {
+            let case = sheet_case(n, jitter);
+            if keep(&case.name) {
+                cases.push(case);
+            }
+        }
     }
     if keep("spheres") {
         // SPHERES=10,100,5000: the body counts of the spheres scene (time vs body count).
