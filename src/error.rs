@@ -56,7 +56,25 @@ macro_rules! declare_error_kind {
 }
 with_error_kinds!(declare_error_kind);
 
-/// An error: what kind, and a human-readable message naming the argument at fault.
+/// An error: what kind, and a human-readable message naming the argument at fault. A call
+/// that fails changes nothing.
+///
+/// ```
+/// use glcollide::{ErrorKind, Positions, Scene, SceneConfig};
+///
+/// let mut scene = Scene::new(SceneConfig::default())?;
+/// let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let id = scene.create_mesh(Positions::from_points(&p), &[0, 1, 2], 3)?;
+/// // A NaN is refused whole: the mesh keeps its positions.
+/// let bad = [[f32::NAN, 0.0, 0.0]];
+/// let e = scene.update_positions(id, 0, Positions::from_points(&bad)).unwrap_err();
+/// assert_eq!(e.kind, ErrorKind::NonFinite);
+/// assert_eq!(scene.mesh(id)?.vertex_position(0), Some([0.0, 0.0, 0.0]));
+/// // A polygon naming a vertex that does not exist.
+/// let e = scene.create_mesh(Positions::from_points(&p), &[0, 1, 3], 3).unwrap_err();
+/// assert_eq!(e.kind, ErrorKind::IndexOutOfRange);
+/// # Ok::<(), glcollide::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Error {
     /// What kind of failure it is.

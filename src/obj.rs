@@ -29,6 +29,17 @@ pub fn load(path: impl AsRef<std::path::Path>) -> Result<ObjMesh> {
 }
 
 /// Parses OBJ text (bytes, so invalid UTF-8 outside `v`/`f` lines is ignored).
+///
+/// ```
+/// // A unit square as one quad face: split into a fan of two triangles.
+/// let m = glcollide::obj::parse(b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")?;
+/// assert_eq!(m.positions.len(), 4);
+/// assert_eq!(m.triangles, [0, 1, 2, 0, 2, 3]);
+/// // A face naming a vertex that does not exist is refused, naming the line.
+/// let e = glcollide::obj::parse(b"v 0 0 0\nf 1 2 3\n").unwrap_err();
+/// assert!(e.message.starts_with("line 2"), "{}", e.message);
+/// # Ok::<(), glcollide::Error>(())
+/// ```
 pub fn parse(text: &[u8]) -> Result<ObjMesh> {
     let mut m = ObjMesh::default();
     let mut corners: Vec<u32> = Vec::new();
