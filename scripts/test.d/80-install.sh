@@ -57,7 +57,7 @@ else
   bad "no debug file for build id '$id'"
 fi
 line=$(gdb -nx -batch -iex "set debug-file-directory $prefix/lib/debug" -ex "info line glcol_query_all" "$so" 2>&1 | grep -m1 -o 'Line [0-9]* of "[^"]*"' || true)
-[[ "$line" == *src/ffi/mod.rs* ]] && ok "gdb finds glcol_query_all at $line through the split debug info" \
+[[ "$line" == *src/ffi/query.rs* ]] && ok "gdb finds glcol_query_all at $line through the split debug info" \
   || bad "gdb does not find glcol_query_all's source line: '$line'"
 size_of() { du -k "$1" | cut -f1; }
 ok "sizes: $(basename "$so") $(size_of "$so") KiB, its debug info $(size_of "$dbg") KiB, libglcollide.a $(size_of "$prefix/lib/libglcollide.a") KiB"
