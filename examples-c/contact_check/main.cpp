@@ -18,8 +18,11 @@
 //                 triangle pairs' Minkowski differences, big integers)
 //   separation    a translated by (depth + k ulp(E)) * normal (exact rationals, the float
 //                 normal as given) no longer meets b for some k in 1, 2, 4, 8 (the least is
-//                 reported; none is a failure); a translated by (depth - s) * normal still
-//                 meets b when depth > s, s = 8 ulp(E) (see the rule below)
+//                 reported; none is a failure); for a quad, whose union may be apart only in a
+//                 wedge of directions at the nearest point that the normal's ray misses, else:
+//                 a translated by depth * normal touches b (its exact depth then within
+//                 k ulp(E)); a translated by (depth - s) * normal still meets b when depth > s,
+//                 s = 8 ulp(E) (see the rule below)
 //   normal        | |normal| - 1 | in ulps of 1; coplanar: the angle to a's exact normal
 //   band          (not intersecting) -depth against the exact distance (min over vertex-simplex
 //                 and segment-segment squared distances); point_a on a and point_b on b, and
@@ -755,6 +758,21 @@ struct Checker {
                     need = k;
                     break;
                 }
+            if (need == 0 && (na == 4 || nb == 4)) {
+                // A union (a quad) may be apart only in a wedge of directions at its nearest
+                // point that the normal's ray misses: then a moved by depth * normal must
+                // touch b (the moved pair's exact depth within k ulp(E)).
+                double xa[4][3];
+                const double *ma[4] = {xa[0], xa[1], xa[2], xa[3]};
+                for (int i = 0; i < na; i++)
+                    for (int k = 0; k < 3; k++) xa[i][k] = ca[i][k] + double(g.depth) * double(g.normal[k]);
+                double rest = union_depth(ma, na, cb, nb);
+                for (double k : {1.0, 2.0, 4.0, 8.0})
+                    if (rest <= k * uE) {
+                        need = k;
+                        break;
+                    }
+            }
             if (need == 0) bad("a moved by (depth + 8 ulp(E)) * normal still meets b; depth", g.depth);
             S.sep = std::max(S.sep, need);
             // Any translation shorter than the exact depth leaves them meeting.
@@ -1285,7 +1303,7 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
         if (nc == 0) {
             // Not reported: must not intersect (the query's exactness, checked in passing).
             Poly A = make_poly(ca, nva), B = make_poly(cb, nvb);
-            if (meet(A, B)) S.fail(std::string(where) + ": an intersecting pair was not reported");
+            if (meet(A, B)) S.fail(std::string(where) + ": an intersecting pair was not reported" + corners(ca, nva, cb, nvb));
             continue;
         }
         C.pair(S, ca, nva, cb, nvb, g[0], where);
