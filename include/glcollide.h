@@ -202,8 +202,9 @@ typedef struct GlcolContactGeometry {
   // only: the point of polygon b closest to polygon a.
   float point_b[3];
   // Unit (within float rounding). Intersecting: moving polygon a by depth * normal
-  // separates the two polygons (the smallest such translation). Band only: from b
-  // towards a.
+  // separates the two polygons (the smallest such translation; with a quad, the union
+  // of its triangles, it brings them to touching, and a longer move along normal need
+  // not separate). Band only: from b towards a.
   float normal[3];
   // Intersecting: >= 0, the length of that smallest separating translation (the
   // penetration depth). Band only: minus the distance between the polygons.
@@ -543,11 +544,14 @@ enum GlcolStatus glcol_query_all(struct GlcolScene *scene,
 // Rules (exact decisions, as the query's):
 // - INTERSECTING: the closed polygons meet. point_a, point_b: the two farthest-apart
 //   points of their intersection; depth, normal: the smallest translation of a that
-//   separates them (separating axes: the face normals and edge-edge crosses; for a quad,
-//   of its hull: the quad if planar and convex, else its vertices' tetrahedron, an upper
-//   bound that still separates).
-// - COPLANAR (with INTERSECTING): all vertices in one plane; depth 0, normal = a's
-//   normal, points: the ends of the overlap's longest extent.
+//   separates them (two triangles: separating axes, the face normals and edge-edge
+//   crosses; a quad: the union of its two triangles, planar or not, not its hull: the
+//   boundary point of the union of the triangle pairs' Minkowski differences nearest the
+//   origin; moving a by depth * normal brings the pair to touching, and for a union a
+//   longer move along normal need not separate). Touching pairs: depth 0.
+// - COPLANAR (with INTERSECTING): the polygons meet and all their vertices lie in one
+//   plane (never on a band-only pair); depth 0, normal = a's normal (a bowtie's: its
+//   larger half's), points: the ends of the overlap's longest extent.
 // - Neither (pairs within the epsilon band only): closest points, depth = minus their
 //   distance, normal from b towards a.
 // - A quad is its two triangles (v0,v1,v2), (v0,v2,v3). A degenerate polygon (a segment or

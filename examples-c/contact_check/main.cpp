@@ -10,16 +10,19 @@
 //   points        intersecting: distance of point_a and point_b to the exact intersection set
 //                 (union of CGAL::intersection of the triangle sub-pairs) and |point_a -
 //                 point_b| against the set's exact diameter (its longest extent), in ulps of M
-//   depth         intersecting, not coplanar: against the exact separating-axis minimum,
-//                 min over axes u of overlap(u)^2 / |u|^2 (rationals; axes: the normals of every
-//                 vertex triple of either polygon and the crosses of every vertex-pair
-//                 direction of a with every one of b: for two triangles the 2 normals and the
-//                 9 edge-edge crosses; for a quad a superset of its hull's, so the minimum is
-//                 the hulls' penetration depth, as the header documents)
+//   depth         intersecting, not coplanar: two triangles, against the exact separating-axis
+//                 minimum, min over axes u of overlap(u)^2 / |u|^2 (rationals; axes: the 2
+//                 normals and the 9 edge-edge crosses); a quad, the union of its triangles
+//                 (issue 28), against the exact depth of that union (union_depth: the distance
+//                 from the origin to the closure of the complement of the union of the
+//                 triangle pairs' Minkowski differences, big integers)
 //   separation    a translated by (depth + k ulp(E)) * normal (exact rationals, the float
 //                 normal as given) no longer meets b for some k in 1, 2, 4, 8 (the least is
-//                 reported; none is a failure); for triangles, a translated by (depth - s) *
-//                 normal still meets b when depth > s, s = 8 ulp(E) (see the rule below)
+//                 reported; none is a failure); for a quad, whose union may be apart only in a
+//                 wedge of directions at the nearest point that the normal's ray misses, else:
+//                 a translated by depth * normal touches b (its exact depth then within
+//                 k ulp(E)); a translated by (depth - s) * normal still meets b when depth > s,
+//                 s = 8 ulp(E) (see the rule below)
 //   normal        | |normal| - 1 | in ulps of 1; coplanar: the angle to a's exact normal
 //   band          (not intersecting) -depth against the exact distance (min over vertex-simplex
 //                 and segment-segment squared distances); point_a on a and point_b on b, and
@@ -40,7 +43,9 @@
 // scale 1 and 1e-4): then the world positions are doubles that are not floats (the
 // reference takes them exactly, computed as docs/API.md defines them), and the configurations
 // keep their shape to within the placement's rounding (a plane's two triangles 1e-16 rad
-// apart, a vertex 1e-17 off an edge).
+// apart, a vertex 1e-17 off an edge). Quad pairs: random, coplanar, near misses and touching;
+// and quads that are not convex and planar (issue 28: bent, bowtie, dart, degenerate,
+// crossing or touching a triangle or a quad), at the origin, 1e3 off it and placed.
 // Fails (exit 1) on: any error above --limit ulps (default 8), a flag that is not the exact
 // one, a NaN or infinity, a non-separating translation, a reported count that differs from
 // the pair count, an intersecting depth < 0 or a band depth > 0.
@@ -63,6 +68,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <queue>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -320,6 +326,271 @@ FT sat_depth2(const Poly &A, const Poly &B) {
     return best < 0 ? FT(0) : best; // no axis: everything collinear (coplanar, not asked)
 }
 
+// ---- the union's depth (issue 28) --------------------------------------------------------
+// A quad is the union of its triangles (v0,v1,v2), (v0,v2,v3), planar or not, and depth is
+// the smallest translation of a that separates the polygons: the distance from the origin to
+// the closure of the complement of M = B - A, the union of the pieces B_j - A_i (convex; one
+// per triangle pair; a flat piece is nowhere dense and leaves that closure as it is, so only
+// full-dimensional pieces count). The nearest point of that closure is the foot of the origin
+// on the intersection of 1 to 3 facet planes of distinct pieces and lies in each of them;
+// every such candidate outside the union's interior is at least as far. Candidates are built
+// exactly (homogeneous big integers: all coordinates scaled by one power of two), tried in the
+// order of their rounded norms, and accepted when some direction leaves every piece holding
+// them: for some choice of one facet through the point per such piece, the origin is not in
+// the hull of the chosen normals (Gordan), decided exactly. (The same method as the crate's
+// test-only src/geom/union_depth.rs, written again on GMP.)
+using Z = CGAL::Gmpz;
+struct ZV {
+    Z c[3];
+};
+ZV zsub(const ZV &a, const ZV &b) { return {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}}; }
+Z zdot(const ZV &a, const ZV &b) { return a.c[0] * b.c[0] + a.c[1] * b.c[1] + a.c[2] * b.c[2]; }
+ZV zcross(const ZV &a, const ZV &b) {
+    return {{a.c[1] * b.c[2] - a.c[2] * b.c[1], a.c[2] * b.c[0] - a.c[0] * b.c[2], a.c[0] * b.c[1] - a.c[1] * b.c[0]}};
+}
+bool zzero(const ZV &a) { return a.c[0] == 0 && a.c[1] == 0 && a.c[2] == 0; }
+bool zsame(const ZV &a, const ZV &b) { return a.c[0] == b.c[0] && a.c[1] == b.c[1] && a.c[2] == b.c[2]; }
+ZV zcombo(const Z &s, const ZV &a, const Z &t, const ZV &b, const Z &u, const ZV &c) {
+    ZV r;
+    for (int k = 0; k < 3; k++) r.c[k] = s * a.c[k] + t * b.c[k] + u * c.c[k];
+    return r;
+}
+// |n| / |d| as a double, from their exact values.
+double zratio(const Z &n, const Z &d) {
+    if (n == 0) return 0;
+    long en, ed;
+    double mn = mpz_get_d_2exp(&en, n.mpz()), md = mpz_get_d_2exp(&ed, d.mpz());
+    return std::ldexp(std::fabs(mn / md), int(en - ed));
+}
+
+// A full-dimensional piece {x : n.x <= h} over its facets (outward, primitive normals).
+struct ZPiece {
+    std::vector<std::pair<ZV, Z>> f;
+    // -1: x / w (w > 0) outside; else the number of facets through it (0: inside), listed
+    // in act when given.
+    int active(const ZV &x, const Z &w, std::vector<int> *act = nullptr) const {
+        int n = 0;
+        for (size_t i = 0; i < f.size(); i++) {
+            Z s = zdot(f[i].first, x) - f[i].second * w;
+            if (s > 0) return -1;
+            if (s == 0) {
+                n++;
+                if (act) act->push_back(int(i));
+            }
+        }
+        return n;
+    }
+};
+bool zpiece(const ZV *a, const ZV *b, ZPiece &P) {
+    std::vector<ZV> d;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            ZV x = zsub(b[i], a[j]);
+            bool seen = false;
+            for (auto &y : d) seen = seen || zsame(x, y);
+            if (!seen) d.push_back(x);
+        }
+    bool solid = false;
+    for (size_t i = 0; i < d.size(); i++)
+        for (size_t j = i + 1; j < d.size(); j++)
+            for (size_t k = j + 1; k < d.size(); k++) {
+                ZV n = zcross(zsub(d[j], d[i]), zsub(d[k], d[i]));
+                if (zzero(n)) continue;
+                bool pos = false, neg = false;
+                for (auto &x : d) {
+                    Z s = zdot(n, zsub(x, d[i]));
+                    pos = pos || s > 0;
+                    neg = neg || s < 0;
+                }
+                solid = solid || pos || neg;
+                if (pos == neg) continue;
+                if (pos)
+                    for (auto &c : n.c) c = -c;
+                Z g = 0;
+                for (auto &c : n.c) mpz_gcd(g.mpz(), g.mpz(), c.mpz());
+                for (auto &c : n.c) c = c / g;
+                bool seen = false;
+                for (auto &e : P.f) seen = seen || zsame(e.first, n);
+                if (!seen) P.f.push_back({n, zdot(n, d[i])});
+            }
+    return solid;
+}
+// Is the origin in the hull of these (at most four) vectors? (A pair opposite, a triple around
+// it in a plane through it, or a tetrahedron around it.)
+bool zero_in_hull(const std::vector<const ZV *> &v) {
+    size_t n = v.size();
+    for (size_t i = 0; i < n; i++) {
+        if (zzero(*v[i])) return true;
+        for (size_t j = i + 1; j < n; j++) {
+            if (zzero(zcross(*v[i], *v[j])) && zdot(*v[i], *v[j]) < 0) return true;
+            for (size_t k = j + 1; k < n; k++) {
+                ZV ab = zcross(*v[i], *v[j]), bc = zcross(*v[j], *v[k]), ca = zcross(*v[k], *v[i]);
+                if (zdot(ab, *v[k]) != 0) continue;
+                const ZV *w = !zzero(ab) ? &ab : !zzero(bc) ? &bc : !zzero(ca) ? &ca : nullptr;
+                if (!w) continue;
+                Z s[3] = {zdot(*w, bc), zdot(*w, ca), zdot(*w, ab)};
+                if ((s[0] >= 0 && s[1] >= 0 && s[2] >= 0) || (s[0] <= 0 && s[1] <= 0 && s[2] <= 0)) return true;
+            }
+        }
+    }
+    if (n == 4) {
+        ZV o = {{0, 0, 0}};
+        auto orient = [](const ZV &p, const ZV &q, const ZV &r, const ZV &s) {
+            return zdot(zsub(q, p), zcross(zsub(r, p), zsub(s, p)));
+        };
+        Z total = orient(*v[0], *v[1], *v[2], *v[3]);
+        if (total != 0) {
+            Z l[4] = {orient(o, *v[1], *v[2], *v[3]), orient(*v[0], o, *v[2], *v[3]), orient(*v[0], *v[1], o, *v[3]),
+                      orient(*v[0], *v[1], *v[2], o)};
+            bool in = true;
+            for (auto &x : l) in = in && (x == 0 || (x > 0) == (total > 0));
+            if (in) return true;
+        }
+    }
+    return false;
+}
+// Is x / w in the closure of the complement of the pieces' union?
+bool zoutside(const std::vector<ZPiece> &P, const ZV &x, const Z &w) {
+    std::vector<std::pair<size_t, std::vector<int>>> holding;
+    for (size_t k = 0; k < P.size(); k++) {
+        std::vector<int> act;
+        int a = P[k].active(x, w, &act);
+        if (a == 0) return false;
+        if (a > 0) holding.push_back({k, act});
+    }
+    std::vector<const ZV *> chosen;
+    std::function<bool(size_t)> any = [&](size_t h) {
+        if (h == holding.size()) return !zero_in_hull(chosen);
+        for (int f : holding[h].second) {
+            chosen.push_back(&P[holding[h].first].f[f].first);
+            bool found = any(h + 1);
+            chosen.pop_back();
+            if (found) return true;
+        }
+        return false;
+    };
+    return any(0);
+}
+// The union's depth of polygons a (na corners) and b (nb corners), which meet.
+double union_depth(const double *const *ca, int na, const double *const *cb, int nb) {
+    // Every coordinate m 2^e (m an integer of 53 bits), scaled by 2^-e0, e0 the least e.
+    std::vector<double> xs;
+    for (int i = 0; i < na; i++) xs.insert(xs.end(), ca[i], ca[i] + 3);
+    for (int i = 0; i < nb; i++) xs.insert(xs.end(), cb[i], cb[i] + 3);
+    int e0 = INT32_MAX;
+    std::vector<std::pair<double, int>> me;
+    for (double x : xs) {
+        int e;
+        double f = std::frexp(x, &e);
+        me.push_back({std::ldexp(f, 53), e - 53});
+        if (x != 0) e0 = std::min(e0, e - 53);
+    }
+    std::vector<ZV> pts;
+    for (size_t i = 0; i < xs.size(); i += 3) {
+        ZV p;
+        for (int k = 0; k < 3; k++) {
+            Z m(me[i + k].first);
+            if (me[i + k].first != 0) mpz_mul_2exp(m.mpz(), m.mpz(), (unsigned long)(me[i + k].second - e0));
+            p.c[k] = m;
+        }
+        pts.push_back(p);
+    }
+    auto tris = [&](int base, int n) {
+        std::vector<std::array<ZV, 3>> t = {{pts[base], pts[base + 1], pts[base + 2]}};
+        if (n == 4) t.push_back({pts[base], pts[base + 2], pts[base + 3]});
+        return t;
+    };
+    std::vector<ZPiece> P;
+    for (auto &t : tris(0, na))
+        for (auto &u : tris(na, nb)) {
+            ZPiece p;
+            if (zpiece(t.data(), u.data(), p)) P.push_back(p);
+        }
+    ZV zero = {{0, 0, 0}};
+    if (zoutside(P, zero, Z(1))) return 0;
+    // Every facet plane g: (piece, facet) and its squared distance from the origin, a lower
+    // bound of the norm of every candidate on it.
+    std::vector<std::pair<int, int>> fs;
+    std::vector<double> lb;
+    for (int k = 0; k < int(P.size()); k++)
+        for (int i = 0; i < int(P[k].f.size()); i++) {
+            auto &[n, h] = P[k].f[i];
+            fs.push_back({k, i});
+            lb.push_back(zratio(h * h, zdot(n, n)));
+        }
+    // Candidates on 1, 2 or 3 planes of distinct pieces, built when the queue (by the least
+    // norm they can have) reaches them.
+    struct Item {
+        double key;
+        int g[3], n, built;
+    };
+    auto later = [](const Item &x, const Item &y) { return x.key > y.key; };
+    std::priority_queue<Item, std::vector<Item>, decltype(later)> q(later);
+    int nf = int(fs.size());
+    for (int a = 0; a < nf; a++) {
+        q.push({lb[a], {a, 0, 0}, 1, -1});
+        for (int b = a + 1; b < nf; b++) {
+            if (fs[b].first == fs[a].first) continue;
+            q.push({std::max(lb[a], lb[b]), {a, b, 0}, 2, -1});
+            for (int c = b + 1; c < nf; c++)
+                if (fs[c].first != fs[b].first && fs[c].first != fs[a].first)
+                    q.push({std::max({lb[a], lb[b], lb[c]}), {a, b, c}, 3, -1});
+        }
+    }
+    struct Cand {
+        ZV x;
+        Z w;
+    };
+    std::vector<Cand> cs;
+    int best = -1;
+    double best_key = 0;
+    while (!q.empty()) {
+        Item it = q.top();
+        q.pop();
+        if (best >= 0 && it.key > best_key * (1 + 1e-12)) break;
+        auto plane = [&](int m) -> const std::pair<ZV, Z> & { return P[fs[it.g[m]].first].f[fs[it.g[m]].second]; };
+        if (it.built < 0) {
+            ZV x;
+            Z w;
+            if (it.n == 1) {
+                auto &[n, h] = plane(0);
+                x = zcombo(h, n, 0, n, 0, n), w = zdot(n, n);
+            } else if (it.n == 2) {
+                auto &[n1, h1] = plane(0);
+                auto &[n2, h2] = plane(1);
+                ZV m = zcross(n1, n2);
+                if (zzero(m)) continue;
+                x = zcombo(h1, zcross(n2, m), h2, zcross(m, n1), 0, m), w = zdot(m, m);
+            } else {
+                auto &[n1, h1] = plane(0);
+                auto &[n2, h2] = plane(1);
+                auto &[n3, h3] = plane(2);
+                ZV c23 = zcross(n2, n3);
+                w = zdot(n1, c23);
+                if (w == 0) continue;
+                x = zcombo(h1, c23, h2, zcross(n3, n1), h3, zcross(n1, n2));
+            }
+            if (w < 0) {
+                for (auto &c : x.c) c = -c;
+                w = -w;
+            }
+            it.key = zratio(zdot(x, x), w * w);
+            it.built = int(cs.size());
+            cs.push_back({x, w});
+            q.push(it);
+            continue;
+        }
+        const Cand &c = cs[it.built];
+        bool on = true;
+        for (int m = 0; m < it.n; m++) on = on && P[fs[it.g[m]].first].active(c.x, c.w) >= 0;
+        if (!on || !zoutside(P, c.x, c.w)) continue;
+        if (best < 0 || zdot(c.x, c.x) * (cs[best].w * cs[best].w) < zdot(cs[best].x, cs[best].x) * (c.w * c.w))
+            best = it.built, best_key = it.key;
+    }
+    if (best < 0) throw std::runtime_error("union_depth: no nearest point");
+    return std::sqrt(std::ldexp(best_key, 2 * e0));
+}
+
 // A rational to the nearest double (well, within one ulp), from its exact value: Epeck's own
 // CGAL::to_double rounds its interval approximation, which after a cancellation (a small
 // overlap or gap between projections of coordinates far larger) can be wide.
@@ -446,14 +717,22 @@ struct Checker {
                 // Any translation along the normal separates: 1 ulp(E) must.
                 if (meet(translated(A, n * FT(uE)), B)) bad("coplanar: a moved by ulp(E) * normal still meets b", 1);
                 else S.sep = std::max(S.sep, 1.0);
-                Vec N = CGAL::NULL_VECTOR;
+                // a's normal: the sum of its triangles' area vectors; where they cancel (a
+                // bowtie with equal halves), a proper half's, either way up (issue 28).
+                Vec N = CGAL::NULL_VECTOR, half = CGAL::NULL_VECTOR;
                 for (auto &s : A.s)
-                    if (s.dim == 2) N = N + CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]);
+                    if (s.dim == 2) {
+                        N = N + CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]);
+                        if (half == CGAL::NULL_VECTOR) half = CGAL::cross_product(s.p[1] - s.p[0], s.p[2] - s.p[0]);
+                    }
+                bool either = N == CGAL::NULL_VECTOR;
+                if (either) N = half;
                 if (N != CGAL::NULL_VECTOR) {
                     double Nd[3] = {todbl(N.x()), todbl(N.y()), todbl(N.z())};
-                                        double c[3] = {g.normal[1] * Nd[2] - g.normal[2] * Nd[1], g.normal[2] * Nd[0] - g.normal[0] * Nd[2],
+                    double c[3] = {g.normal[1] * Nd[2] - g.normal[2] * Nd[1], g.normal[2] * Nd[0] - g.normal[0] * Nd[2],
                                    g.normal[0] * Nd[1] - g.normal[1] * Nd[0]};
                     double dot = g.normal[0] * Nd[0] + g.normal[1] * Nd[1] + g.normal[2] * Nd[2];
+                    if (either) dot = std::fabs(dot);
                     double ang = std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), dot);
                     double e_c = ang / 0x1p-24;
                     S.cnorm = std::max(S.cnorm, e_c);
@@ -462,11 +741,13 @@ struct Checker {
                 return;
             }
             if (!(g.depth >= 0)) return bad("intersecting depth < 0", g.depth);
-            double D = dsqrt(sat_depth2(A, B));
+            // Triangles: the separating-axis minimum (their difference is convex); a quad:
+            // the union of its triangles' (issue 28).
+            double D = na == 4 || nb == 4 ? union_depth(ca, na, cb, nb) : dsqrt(sat_depth2(A, B));
             double e_d = std::fabs(g.depth - D) / ulp32(std::max(D, E * 0x1p-24));
             S.depth = std::max(S.depth, e_d);
             if (e_d > limit) {
-                snprintf(buf, sizeof buf, "%s: |depth - exact SAT depth (%a)| / ulp(max(D, 2^-24 E)) = %.3g", where, D, e_d);
+                snprintf(buf, sizeof buf, "%s: |depth - exact depth (%a)| / ulp(max(D, 2^-24 E)) = %.3g", where, D, e_d);
                 S.fail(buf + corners(ca, na, cb, nb));
             }
             // Separation, exactly on the translated polygons.
@@ -477,9 +758,25 @@ struct Checker {
                     need = k;
                     break;
                 }
+            if (need == 0 && (na == 4 || nb == 4)) {
+                // A union (a quad) may be apart only in a wedge of directions at its nearest
+                // point that the normal's ray misses: then a moved by depth * normal must
+                // touch b (the moved pair's exact depth within k ulp(E)).
+                double xa[4][3];
+                const double *ma[4] = {xa[0], xa[1], xa[2], xa[3]};
+                for (int i = 0; i < na; i++)
+                    for (int k = 0; k < 3; k++) xa[i][k] = ca[i][k] + double(g.depth) * double(g.normal[k]);
+                double rest = union_depth(ma, na, cb, nb);
+                for (double k : {1.0, 2.0, 4.0, 8.0})
+                    if (rest <= k * uE) {
+                        need = k;
+                        break;
+                    }
+            }
             if (need == 0) bad("a moved by (depth + 8 ulp(E)) * normal still meets b; depth", g.depth);
             S.sep = std::max(S.sep, need);
-            if (na == 3 && nb == 3 && double(g.depth) > s) {
+            // Any translation shorter than the exact depth leaves them meeting.
+            if (double(g.depth) > s) {
                 Vec dn = n * (FT(double(g.depth)) - FT(s));
                 if (!meet(translated(A, dn), B))
                     bad("a moved by (depth - 8 ulp(E)) * normal is already apart; depth", g.depth);
@@ -795,6 +1092,112 @@ std::pair<Q4, Q4> make_quads(Gen &G, QuadKind k, int i) {
     }
 }
 
+// Quads whose union of triangles is not their hull, or is degenerate (issue 28): bent
+// (v1, v3 raised or lowered off the diagonal v0-v2), bowties (edges v0-v1 and v2-v3 cross;
+// planar half the time, and every fourth a symmetric one in z = 0 whose halves' area
+// vectors cancel, with a partner in its plane), darts (reflex at v0: the diagonal inside,
+// the union the dart), degenerate (repeated or collinear vertices), each against a triangle
+// or a quad (random, or odd too), crossing (a point of each made to coincide); and touching:
+// the partner's first vertex on a's diagonal or at its v0, its others on the concave side
+// (between a bent quad's halves, else above), so that many pairs only touch although they
+// enter the hull. In a frame where the diagonal is the x axis from 0 to 1, then turned at
+// random (not the degenerate ones, whose collinear vertices stay exact on that axis; a
+// touching pair half the time, when its touching point stays exact).
+enum UnionKind { U_BENT, U_BOWTIE, U_DART, U_DEGENERATE, U_TOUCHING, NUNION };
+const char *union_name[NUNION] = {"quads bent", "quads bowtie", "quads dart", "quads degenerate",
+                                  "quads bent/bowtie/dart, touching"};
+std::array<double, 9> random_turn(Gen &G) {
+    double q[4] = {G.u(-1, 1), G.u(-1, 1), G.u(-1, 1), G.u(-1, 1)};
+    double l = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    double w = q[0] / l, x = q[1] / l, y = q[2] / l, z = q[3] / l;
+    return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+            2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+            2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
+}
+void turn(const std::array<double, 9> &m, Q4 &q) {
+    for (auto &p : q) {
+        std::array<double, 3> r;
+        for (int k = 0; k < 3; k++) r[k] = m[3 * k] * p[0] + m[3 * k + 1] * p[1] + m[3 * k + 2] * p[2];
+        p = r;
+    }
+}
+Q4 odd_local(Gen &G, int k, int i) {
+    auto side = [&] { return G.u(0.3, 1); };
+    switch (k) {
+    case U_BENT: return {{{0, 0, 0}, {G.u(0.1, 0.9), -side(), G.u(-0.6, 0.6)}, {1, 0, 0}, {G.u(0.1, 0.9), side(), G.u(-0.6, 0.6)}}};
+    case U_BOWTIE: {
+        if (i % 4 == 3) {
+            double s = float(G.u(0.3, 1));
+            return {{{0, 0, 0}, {s, s, 0}, {s, 0, 0}, {0, s, 0}}};
+        }
+        double h = i % 2 ? 0.5 : 0;
+        return {{{0, 0, 0}, {G.u(0.6, 1.2), side(), G.u(-h, h)}, {1, 0, 0}, {G.u(-0.2, 0.4), side(), G.u(-h, h)}}};
+    }
+    case U_DART: {
+        double h = i % 2 ? 0.3 : 0, y = side();
+        return {{{0, 0, 0}, {G.u(-1, -0.5), -y, G.u(-h, h)}, {1, 0, 0}, {G.u(-1, -0.5), y, G.u(-h, h)}}};
+    }
+    default: {
+        auto v0 = G.p(1), v1 = G.p(1), v3 = G.p(1);
+        std::array<double, 3> o = {0, 0, 0}, v2 = {1, 0, 0}, x1 = {float(G.u(0, 1)), 0, 0}, x3 = {float(G.u(0, 1)), 0, 0};
+        switch (i % 6) {
+        case 0: return {{v0, v1, v0, v3}}; // two segments from v0
+        case 1: return {{o, x1, v2, v3}};  // v1 on the diagonal
+        case 2: return {{v0, v1, v2, v2}}; // v3 = v2
+        case 3: return {{v0, v1, v2, v1}}; // v3 = v1: one triangle twice
+        case 4: return {{v0, v0, v0, v3}}; // a segment
+        default: return {{o, x1, v2, x3}}; // all collinear
+        }
+    }
+    }
+}
+std::array<double, 3> point_of(Gen &G, const Q4 &q, int n) {
+    int t = n == 4 && G.u(0, 1) < 0.5;
+    const std::array<double, 3> &p0 = q[0], &p1 = q[t ? 2 : 1], &p2 = q[t ? 3 : 2];
+    double w0 = G.u(0, 1), w1 = G.u(0, 1 - w0);
+    std::array<double, 3> r;
+    for (int k = 0; k < 3; k++) r[k] = w0 * p0[k] + w1 * p1[k] + (1 - w0 - w1) * p2[k];
+    return r;
+}
+// a: an odd quad; b: nb = 3 a random triangle, nb = 4 a random or odd quad.
+std::pair<Q4, Q4> make_union(Gen &G, UnionKind k, int i, int nb) {
+    Q4 b = {{G.p(1), G.p(1), G.p(1), G.p(1)}};
+    if (nb == 4 && i % 2) {
+        b = odd_local(G, int(G.u(0, 3.999)), i / 2);
+        turn(random_turn(G), b);
+    }
+    if (k != U_TOUCHING) {
+        Q4 a = odd_local(G, k, i);
+        if (k != U_DEGENERATE) turn(random_turn(G), a);
+        if (k == U_BOWTIE && i % 4 == 3) {
+            // In a's plane z = 0: a point, a segment or a triangle.
+            for (auto &p : b) p[2] = 0;
+            if (i % 12 == 3) b[1] = b[2] = b[3] = b[0];
+            else if (i % 12 == 7) b[2] = b[3] = b[1];
+        }
+        auto x = point_of(G, a, 4), y = point_of(G, b, nb);
+        for (auto &p : b)
+            for (int c = 0; c < 3; c++) p[c] += x[c] - y[c];
+        return {a, b};
+    }
+    int kind = i % 3;
+    Q4 a = odd_local(G, kind, i / 3);
+    std::array<double, 3> at = i % 4 == 0 ? a[0] : std::array<double, 3>{float(G.u(0.05, 0.95)), 0, 0};
+    std::array<double, 3> up = {0, 0, 1};
+    if (kind == U_BENT && a[1][2] + a[3][2] < 0) up[2] = -1;
+    b[0] = at;
+    for (int v = 1; v < 4; v++) {
+        double h = G.u(0.05, 0.55);
+        for (int c = 0; c < 3; c++) b[v][c] = at[c] + G.u(-0.4, 0.4) + h * up[c];
+    }
+    if (i % 2) {
+        auto m = random_turn(G);
+        turn(m, a);
+        turn(m, b);
+    }
+    return {a, b};
+}
+
 // A position placed by the 3x4 row-major matrix m as docs/API.md defines it: each coordinate
 // m[r*4+0]*x + m[r*4+1]*y + m[r*4+2]*z + m[r*4+3], in that order, every product and sum
 // rounded to double (volatile: no fused multiply-add whatever the compiler flags).
@@ -815,10 +1218,11 @@ void place(const double *m, const float *x, double *out) {
 // translation; the floats are the configuration at the origin), so the world positions are
 // doubles that are not floats, and the configurations (near misses, slivers) keep their
 // shape to within the placement's rounding; the reference takes those doubles exactly.
-// `quad` >= 0: quad pairs of that QuadKind instead of `kind`'s triangle pairs.
+// `quad` >= 0: quad pairs of that QuadKind instead of `kind`'s triangle pairs; `uni` >= 0:
+// pairs of that UnionKind, a quad against a triangle (`nb` 3) or a quad (4).
 void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n, uint64_t seed,
-            bool placed = false, int quad = -1) {
-    const int nv = quad >= 0 ? 4 : 3;
+            bool placed = false, int quad = -1, int uni = -1, int nb = 3) {
+    const int nva = quad >= 0 || uni >= 0 ? 4 : 3, nvb = quad >= 0 ? 4 : uni >= 0 ? nb : 3;
     Gen G;
     G.rng.seed(seed);
     GlcolSceneDesc sd;
@@ -835,10 +1239,10 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
         GlcolMeshDesc d;
         glcol_mesh_desc_init(&d);
         d.positions = m ? pb : pa;
-        d.vertex_count = uint32_t(nv);
+        d.vertex_count = uint32_t(m ? nvb : nva);
         d.indices = idx;
         d.polygon_count = 1;
-        d.vertices_per_polygon = uint32_t(nv);
+        d.vertices_per_polygon = uint32_t(m ? nvb : nva);
         check(glcol_mesh_create(scene, &d, &ids[m]), "glcol_mesh_create");
     }
     std::array<double, 3> off = unit(G.p(1));
@@ -865,22 +1269,24 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
         Q4 a{}, b{};
         if (quad >= 0) {
             std::tie(a, b) = make_quads(G, QuadKind(quad), i);
+        } else if (uni >= 0) {
+            std::tie(a, b) = make_union(G, UnionKind(uni), i, nb);
         } else {
             auto t = make(G, kind, i);
             std::copy(t.first.begin(), t.first.end(), a.begin());
             std::copy(t.second.begin(), t.second.end(), b.begin());
         }
-        for (int v = 0; v < nv; v++)
+        for (int v = 0; v < 4; v++)
             for (int k = 0; k < 3; k++) {
                 pa[3 * v + k] = float(a[v][k] * scale + off[k]);
                 pb[3 * v + k] = float(b[v][k] * scale + off[k]);
             }
-        for (int v = 0; v < nv; v++) {
+        for (int v = 0; v < 4; v++) {
             place(m, pa + 3 * v, wa + 3 * v);
             place(m, pb + 3 * v, wb + 3 * v);
         }
-        check(glcol_mesh_update_positions(scene, ids[0], pa, 0, uint32_t(nv), 0), "update a");
-        check(glcol_mesh_update_positions(scene, ids[1], pb, 0, uint32_t(nv), 0), "update b");
+        check(glcol_mesh_update_positions(scene, ids[0], pa, 0, uint32_t(nva), 0), "update a");
+        check(glcol_mesh_update_positions(scene, ids[1], pb, 0, uint32_t(nvb), 0), "update b");
         const GlcolContact *c = nullptr;
         size_t nc = 0;
         check(glcol_query(scene, ids[0], &c, &nc), "glcol_query");
@@ -896,11 +1302,11 @@ void family(Checker &C, Stats &S, Kind kind, double scale, double offset, int n,
         const double *ca[4] = {wa, wa + 3, wa + 6, wa + 9}, *cb[4] = {wb, wb + 3, wb + 6, wb + 9};
         if (nc == 0) {
             // Not reported: must not intersect (the query's exactness, checked in passing).
-            Poly A = make_poly(ca, nv), B = make_poly(cb, nv);
-            if (meet(A, B)) S.fail(std::string(where) + ": an intersecting pair was not reported");
+            Poly A = make_poly(ca, nva), B = make_poly(cb, nvb);
+            if (meet(A, B)) S.fail(std::string(where) + ": an intersecting pair was not reported" + corners(ca, nva, cb, nvb));
             continue;
         }
-        C.pair(S, ca, nv, cb, nv, g[0], where);
+        C.pair(S, ca, nva, cb, nvb, g[0], where);
     }
     glcol_scene_destroy(scene);
 }
@@ -1106,6 +1512,13 @@ int main(int argc, char **argv) {
             for (int k = 0; k < NQUAD; k++)
                 one(std::string(quad_name[k]) + F.tag,
                     [&](Stats &S) { family(C, S, RANDOM, 1, F.offset, npairs / 2, seed, F.placed, k); });
+        // Quads that are not convex and planar (issue 28), against triangles and quads, at
+        // the origin, 1e3 off it, and placed.
+        for (QFam F : {QFam{"", 0, false}, QFam{", offset 1e3", 1e3, false}, QFam{", placed", 0, true}})
+            for (int k = 0; k < NUNION; k++)
+                for (int nb : {3, 4})
+                    one(std::string(union_name[k]) + (nb == 3 ? " vs triangles" : " vs quads") + F.tag,
+                        [&](Stats &S) { family(C, S, RANDOM, 1, F.offset, npairs / 6, seed, F.placed, -1, k, nb); });
         // Neighbours folded through each other (self-collision's adjacent pairs), then one
         // random plane rounded to floats: at the origin, 1e3 off it, and placed.
         for (Kind k : {SHARED, TILTED})

@@ -3,8 +3,9 @@
 # examples-c/contact_check (public header + libglcollide; the peer harness for the meshes;
 # CGAL Epeck as the reference; packages in 45-contact.deps) and checks every pair of the
 # generated hard cases (coplanar, touching, slivers, near misses 1e-3..1e-7, offsets 1e3/1e5,
-# scales 1e-4/1e4, degenerate; also placed by glcol_mesh_set_transform: f64 world positions)
-# and of real meshes. Exit status non-zero on any wrong flag,
+# scales 1e-4/1e4, degenerate; also placed by glcol_mesh_set_transform: f64 world positions;
+# quads bent, bowtie, dart or degenerate, judged as the union of their triangles) and of real
+# meshes. Exit status non-zero on any wrong flag,
 # NaN, non-separating translation or error above 8 float ulps. About 15 s of CPU.
 # Extra arguments go to the program, e.g. `bash scripts/test.d/45-contact.sh --only colon`.
 set -euo pipefail

@@ -199,8 +199,9 @@ pub struct GlcolContactGeometry {
     /// only: the point of polygon b closest to polygon a.
     pub point_b: [f32; 3],
     /// Unit (within float rounding). Intersecting: moving polygon a by depth * normal
-    /// separates the two polygons (the smallest such translation). Band only: from b
-    /// towards a.
+    /// separates the two polygons (the smallest such translation; with a quad, the union
+    /// of its triangles, it brings them to touching, and a longer move along normal need
+    /// not separate). Band only: from b towards a.
     pub normal: [f32; 3],
     /// Intersecting: >= 0, the length of that smallest separating translation (the
     /// penetration depth). Band only: minus the distance between the polygons.

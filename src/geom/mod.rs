@@ -14,6 +14,8 @@ pub mod sweep;
 #[cfg(test)]
 pub(crate) mod test_rng;
 pub mod tritri;
+#[cfg(test)]
+pub(crate) mod union_depth;
 pub mod volume;
 
 pub use predicates::P3;

@@ -1,11 +1,13 @@
 //! The general path: every intersecting case the fast path leaves (coplanar pairs, flat
 //! triangles, quads), through the polygons' structures in a frame local to the pair: the
 //! exact decision per triangle pair, the intersection's pieces and their farthest ends,
-//! the depth over the hulls' axes.
+//! the depth over the hulls' axes (two triangles) or of the union of a quad's triangles
+//! (`pieces.rs`).
 
 use super::band::{band, closest};
 use super::cut::{lerp_from_nearer, signed_like, transverse, Cutting, Face};
 use super::depth::sat;
+use super::pieces::union_depth;
 use super::poly::{fallback_normal, farthest, Poly, Tri};
 use super::{finish, max, ContactGeometry, Local, V};
 use crate::geom::predicates::{collinear, orient2d, orient3d, P3};
@@ -31,6 +33,11 @@ pub(super) fn general(a: &[[P3; 3]; 2], na: usize, b: &[[P3; 3]; 2], nb: usize) 
         let (p, q) = intersection_ends(&pa, &pb, &hit, origin_mag);
         let (normal, depth) = if coplanar {
             (fallback_normal(&pa, &pb), 0.0)
+        } else if pa.nt == 2 || pb.nt == 2 {
+            // A quad: the union of its triangles, not its hull (issue 28).
+            union_depth(&pa, &pb, &hit)
+                .or_else(|| sat(&pa, &pb))
+                .unwrap_or_else(|| (fallback_normal(&pa, &pb), 0.0))
         } else {
             sat(&pa, &pb).unwrap_or_else(|| (fallback_normal(&pa, &pb), 0.0))
         };

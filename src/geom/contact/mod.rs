@@ -33,6 +33,8 @@
 //!   them), for the fast path and the general one.
 //! * `depth.rs`: the penetration depth and normal by the separating-axis theorem over the
 //!   polygons' hulls' candidate axes, and the best axis so far (both paths).
+//! * `pieces.rs`: the penetration depth of a pair with a quad, the quad the union of its
+//!   triangles: the boundary of the union of the triangle pairs' Minkowski differences.
 //! * `general.rs`: every other intersecting case (coplanar pairs, flat triangles, quads),
 //!   through the polygons' structures in a frame local to the pair.
 //! * `poly.rs`: those structures (a triangle, a polygon) and the normal fallback chain.
@@ -59,6 +61,7 @@ mod exact;
 #[cfg(target_arch = "x86_64")]
 mod four;
 mod general;
+mod pieces;
 mod poly;
 #[cfg(test)]
 mod tests;
@@ -124,21 +127,30 @@ const _: () = {
 ///   intersections with the other polygon's (segments, or for a triangle pair that happens
 ///   to be coplanar, a convex polygon), and the two points are the farthest pair among
 ///   their ends and vertices.
-/// * `depth`, `normal`: the smallest translation of `a` that separates the convex hulls of
-///   the two polygons (the distance from the origin to the boundary of their Minkowski
-///   difference `B - A`), by the separating-axis theorem over every facet normal of that
-///   difference: the hulls' face normals and the crosses of their edges. For two triangles
-///   these are the two face normals and the nine edge-edge crosses, so they get the exact
-///   penetration depth. A quad's hull is the quad when it is planar and convex, else the
-///   triangle or tetrahedron its four vertices span; its candidate axes are the normals of
-///   all four vertex triples and its edge directions all six vertex pairs (a superset of
-///   the hull's; a quad-quad pair tries 44 axes). For a non-planar or non-convex quad this
-///   is an upper bound of the polygons' own penetration depth (their union of triangles
-///   may come apart sooner) and `depth * normal` still separates them. At exactly
-///   `depth` the two touch; any longer translation along `normal` separates. Touching
-///   pairs get `depth` 0 and the normal of the facet through the origin. A segment
-///   crossing a triangle gets the segment-triangle difference's depth (the way out through
-///   the triangle's edges or along the segment).
+/// * `depth`, `normal`: the smallest translation of `a` that separates the two polygons
+///   (the distance from the origin to the boundary of their Minkowski difference `B - A`).
+///   Two triangles: by the separating-axis theorem over every facet normal of that
+///   difference, the two face normals and the nine edge-edge crosses, so the exact
+///   penetration depth; at exactly `depth` the two touch, any longer translation along
+///   `normal` separates. Touching pairs get `depth` 0 and the normal of the facet through
+///   the origin. A segment crossing a triangle gets the segment-triangle difference's depth
+///   (the way out through the triangle's edges or along the segment).
+/// * A quad is the union of its two triangles, planar or not (bent, a bowtie, a dart,
+///   degenerate), not its hull (issue 28): `B - A` is then the union of the convex pieces
+///   `B_j - A_i`, one per pair of triangles (`pieces.rs`), and `depth * normal` is the
+///   point of the boundary of that union nearest the origin: the foot of the origin on one
+///   facet plane, on the line of two or at the point of three, of distinct pieces, that
+///   lies on them and outside the union's interior (some direction leaves every piece
+///   holding it: Gordan's test on the planes through it). Touching pairs (the origin
+///   itself on the boundary, with the exact decisions of which triangle pairs meet) get
+///   `depth` 0 and the direction that leaves the pieces by the widest margin. Unlike a
+///   convex difference's, a union's boundary point may be one the pair leaves only within
+///   a wedge of directions that the ray along `normal` misses: moving `a` by
+///   `depth * normal` always brings the pair to touching (a translation within rounding of
+///   it separates), but a longer one along `normal` need not separate. (The constructions
+///   are `f64`; a point is on a plane within 16 eps E times its construction's condition,
+///   and candidates from planes nearer parallel than 1e-4 are not taken. If none passed,
+///   the depth would be the hulls', an upper bound.)
 ///
 /// **Intersecting and coplanar.** `depth` = 0 and `normal` = `a`'s normal (see the chain
 /// below): any translation along it separates them. `point_a`, `point_b`: the two
@@ -158,7 +170,9 @@ const _: () = {
 ///
 /// **Normals are always unit length, never NaN.** Where a rule above yields a zero vector
 /// (coplanar with a degenerate `a`, or a construction that rounds to zero), the normal is
-/// the first non-zero of: `a`'s normal (the normalized sum of its triangles' area vectors),
+/// the first non-zero of: `a`'s normal (the normalized sum of its triangles' area vectors;
+/// where they point apart, a bowtie's, the larger one's, so a planar bowtie whose halves
+/// cancel still gets its plane's normal),
 /// `b`'s normal, the normalized cross of the directions of `a` and `b` (each its two
 /// farthest vertices: two crossing segments), a unit vector perpendicular to the line
 /// holding every vertex (the longer direction crossed with the coordinate axis it is least
@@ -175,8 +189,12 @@ const _: () = {
 /// 1.6 eps M of the exact intersection and within 1.8 eps M of its exact ends (an end's
 /// signed distances are evaluated with error-free transformations whenever rounding could
 /// move it by more than 2 eps M, as at shallow crossings); `depth` is within 1 eps E of
-/// the exact penetration depth of the hulls, and moving `a` by `(depth + eps E) * normal`
-/// separates the pair (checked exactly); band distances are within 1.1 eps E and band
+/// the exact penetration depth of two triangles, and moving `a` by
+/// `(depth + eps E) * normal` separates the pair (checked exactly); with a quad (against
+/// an exact big-integer reference of the union's depth, `geom::union_depth`, over bent,
+/// bowtie, dart and degenerate quads, crossing and touching, at 1e3 and placed), within
+/// 16 eps E (eps (E + M) for placed positions, whose differences round), and moving `a` by
+/// `depth * normal` leaves the pair within that of apart; band distances are within 1.1 eps E and band
 /// normals within 0.9 eps radian of the exact direction. (A distance far below the
 /// coordinates' rounding, `eps E`, leaves the direction undetermined at that precision:
 /// there the normal separates the two nearest triangles by the distance to within it.)
@@ -187,7 +205,10 @@ const _: () = {
 /// four at a time through [`contact_geometry_many`] instead (what
 /// `Scene::contact_geometry` does): about 40 to 55 ns per pair, 8 to 9% of the query on the
 /// heavy case, 15% on an instrument's 95 pairs, 21 to 27% of the 2.4 us queries that find
-/// 8 to 10 (`tests/contact_heavy.rs`, `bench-results/contact.md`).
+/// 8 to 10 (`tests/contact_heavy.rs`, `bench-results/contact.md`). A pair with a quad
+/// (the general path, one at a time): about 1 us against a triangle, 4 us against a
+/// quad (the union's pieces, 2 or 4 of 22 planes at most each; the hulls' axes, before,
+/// 0.6 and 0.9 us).
 pub fn contact_geometry(
     a: &[[P3; 3]; 2],
     na: usize,

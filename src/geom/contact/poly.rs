@@ -88,8 +88,19 @@ impl Poly {
         &self.v[..self.nv]
     }
 
-    /// The sum of the triangles' area vectors (twice the vector area).
+    /// The sum of the triangles' area vectors (twice the vector area); where they point
+    /// apart (a bowtie, or a quad folded onto itself), the larger one: the sum's direction
+    /// without its cancellation, which leaves nothing or rounding when the halves are equal
+    /// (issue 28: a planar bowtie's normal came out in its plane).
     fn area(&self) -> V {
+        let (n0, n1) = (self.tris[0].n, self.tris[1].n);
+        if self.nt == 2 && n0.dot(&n1) < 0.0 {
+            return if n0.norm_squared() >= n1.norm_squared() {
+                n0
+            } else {
+                n1
+            };
+        }
         self.tris().iter().map(|t| t.n).sum()
     }
 

@@ -44,9 +44,30 @@ fn bench_ns_per_pair() {
         })
         .filter(|(a, b)| meet(a, b))
         .collect();
+    // Quads bent (issue 28: the union of their triangles is not their hull): the fourth
+    // vertex beyond the diagonal v0-v2, lifted off the plane by a third of the size, against
+    // a triangle and against a quad bent the same way.
+    let bent = |p: &Polygon| {
+        let t = p.t[0];
+        let lift = [0.3, -0.2, 0.25];
+        let v3 = [0, 1, 2].map(|k| t[0][k] + t[2][k] - t[1][k] + lift[k]);
+        Polygon::quad([t[0], t[1], t[2], v3])
+    };
+    let bent_tri: Vec<(Polygon, Polygon)> = crossing
+        .iter()
+        .map(|(a, b)| (bent(a), *b))
+        .filter(|(a, b)| meet(a, b))
+        .collect();
+    let bent_both: Vec<(Polygon, Polygon)> = crossing
+        .iter()
+        .map(|(a, b)| (bent(a), bent(b)))
+        .filter(|(a, b)| meet(a, b))
+        .collect();
     sets.push(("crossing triangles", crossing));
     sets.push(("band triangles", band));
     sets.push(("crossing quads", quads));
+    sets.push(("quads bent vs triangles", bent_tri));
+    sets.push(("quads bent, both", bent_both));
     let only = std::env::var("BENCH_SET").unwrap_or_default();
     // This thread's CPU time (ns) where Linux tells it, else wall time: the machine may
     // be shared, and waiting for a core is not the function's cost.

@@ -6,8 +6,11 @@ use crate::geom::predicates::P3;
 use crate::geom::test_rng::Rng;
 
 /// The depth against a direct search: it is at most the overlap of the projections
-/// on any direction (those are separating translations), and a hill-climb from the
-/// best of many sampled directions comes down to it.
+/// on any direction (those are separating translations; for a quad, the largest over its
+/// triangles paired with the other's), and for two triangles a hill-climb from the best of
+/// many sampled directions comes down to it (a quad's union may come apart along a
+/// direction before every pair of triangles' projections do: there the search is only an
+/// upper bound, and the exact reference in `check` is the tight one).
 #[test]
 fn depth_against_sampled_directions() {
     let mut r = Rng(4242);
@@ -26,13 +29,19 @@ fn depth_against_sampled_directions() {
             continue;
         }
         let g = geometry(&a, &b);
-        let (va, vb) = (a.verts(), b.verts());
-        // Translation of a along u that separates the projections.
+        // Translation of a along u that separates the projections of every pair of
+        // triangles.
         let h = |u: &P3| {
             let pr = |p: &P3| p[0] * u[0] + p[1] * u[1] + p[2] * u[2];
-            let amin = va.iter().map(pr).fold(f64::INFINITY, f64::min);
-            let bmax = vb.iter().map(pr).fold(f64::NEG_INFINITY, f64::max);
-            bmax - amin
+            let mut most = f64::NEG_INFINITY;
+            for ta in a.tris() {
+                for tb in b.tris() {
+                    let amin = ta.iter().map(pr).fold(f64::INFINITY, f64::min);
+                    let bmax = tb.iter().map(pr).fold(f64::NEG_INFINITY, f64::max);
+                    most = most.max(bmax - amin);
+                }
+            }
+            most
         };
         let mut samples: Vec<(f64, P3)> = (0..20_000)
             .map(|_| {
@@ -73,9 +82,11 @@ fn depth_against_sampled_directions() {
             }
             found = found.min(best.0);
         }
-        let best = (found, ());
-        worst = worst.max(best.0 - g.depth);
-        if best.0 - g.depth < 1e-9 {
+        if a.n == 2 {
+            continue;
+        }
+        worst = worst.max(found - g.depth);
+        if found - g.depth < 1e-9 {
             tight += 1;
         }
         cases += 1;

@@ -12,6 +12,7 @@ use crate::geom::contact::{
 use crate::geom::predicates::{collinear, orient3d, P3};
 use crate::geom::test_rng::Rng;
 use crate::geom::tritri::{segments_intersect, triangles_intersect};
+use crate::geom::union_depth;
 
 pub(super) const EPS: f64 = f64::EPSILON;
 
@@ -613,7 +614,12 @@ pub(super) fn basic(g: &ContactGeometry) {
 }
 
 /// Smallest `m` (0, 1, 2, 4, ...) such that moving `a` by
-/// `(depth + m EPS extent) * normal` separates the polygons, exactly.
+/// `(depth + m EPS extent) * normal` separates the polygons, exactly. A pair with a quad
+/// (a union of triangles) may be apart only in a wedge of directions at the nearest point
+/// that the normal's ray misses, or grazes (a face of the wedge along the ray, as on a
+/// grid): if `m` up to 16 does not separate it, moving `a` by `depth * normal` must bring
+/// it to touching, and `m` is the moved pair's exact union depth (in the same unit,
+/// rounded up).
 fn separation_margin(a: &Polygon, b: &Polygon, g: &ContactGeometry) -> f64 {
     let (la, lb) = localized(a, b);
     let unit = EPS * extent(a, b);
@@ -623,6 +629,15 @@ fn separation_margin(a: &Polygon, b: &Polygon, g: &ContactGeometry) -> f64 {
         let moved = la.moved(&g.normal.map(|x| x * d));
         if !meet(&moved, &lb) {
             return m;
+        }
+        if m >= 16.0 && (a.n == 2 || b.n == 2) {
+            let moved = la.moved(&g.normal.map(|x| x * g.depth));
+            let rest = union_depth::depth(moved.tris(), lb.tris()).depth / unit;
+            assert!(
+                rest < 1e9,
+                "depth * normal does not reach the boundary: {g:?}"
+            );
+            return rest.ceil();
         }
         assert!(m < 1e9, "depth * normal does not separate: {g:?}");
         m = if m == 0.0 { 1.0 } else { m * 2.0 };
@@ -677,16 +692,25 @@ pub(super) fn check(a: &Polygon, b: &Polygon, general: bool) -> Worst {
         } else {
             let m = separation_margin(a, b, &g);
             w.margin = m;
-            if let Some((depth, n)) = reference_depth(a, b) {
+            // Two triangles: the hulls' depth (double-double); a quad: the union of its
+            // triangles' (exact, big integers; issue 28).
+            let reference = if a.n == 1 && b.n == 1 {
+                reference_depth(a, b)
+            } else {
+                let r = union_depth::depth(a.tris(), b.tris());
+                let l = r.at.iter().map(|x| x * x).sum::<f64>().sqrt();
+                Some((r.depth, r.at.map(|x| if l > 0.0 { x / l } else { 0.0 })))
+            };
+            if let Some((depth, n)) = reference {
                 w.depth = (g.depth - depth).abs() / ext;
                 if general && depth > 1e-3 * extent(a, b) {
                     let cos: f64 = (0..3).map(|k| n[k] * g.normal[k]).sum();
                     assert!(cos > 1.0 - 1e-9, "normal {:?} vs {n:?}", g.normal);
                 }
             }
-            // Less than the depth along the normal leaves them meeting (triangles: the
-            // ball of radius depth lies in the Minkowski difference).
-            if a.n == 1 && b.n == 1 && g.depth > 1e-3 * extent(a, b) {
+            // Less than the depth along the normal leaves them meeting (the ball of
+            // radius depth lies in the Minkowski difference).
+            if g.depth > 1e-3 * extent(a, b) {
                 let (la, lb) = localized(a, b);
                 let moved = la.moved(&g.normal.map(|x| x * g.depth * (1.0 - 1e-9)));
                 assert!(meet(&moved, &lb), "depth too large along its normal: {g:?}");
