@@ -581,6 +581,122 @@ fn a_random_rotation_answers_the_exact_world_positions() {
 }
 
 // ---------------------------------------------------------------------------------------
+// A placed collinear quad (contact_check's "quads degenerate vs quads, placed" pair 437).
+
+/// A C99 hex float (`-0x1.8p-3`, `0`), exactly.
+fn hex(s: &str) -> f64 {
+    let (neg, s) = s.strip_prefix('-').map_or((false, s), |r| (true, r));
+    let Some(s) = s.strip_prefix("0x") else {
+        return s.parse().unwrap();
+    };
+    let (mant, exp) = s.split_once('p').unwrap_or((s, "0"));
+    let (int, frac) = mant.split_once('.').unwrap_or((mant, ""));
+    let digits = format!("{int}{frac}");
+    let m = u64::from_str_radix(&digits, 16).unwrap();
+    let e = exp.parse::<i32>().unwrap() - 4 * frac.len() as i32;
+    let v = m as f64 * 2f64.powi(e); // exact: m below 2^53, no subnormals here
+    if neg {
+        -v
+    } else {
+        v
+    }
+}
+
+fn hexes<const N: usize>(s: &str) -> [f64; N] {
+    let v: Vec<f64> = s.split_whitespace().map(hex).collect();
+    v.try_into().unwrap()
+}
+
+/// With the reference an all-collinear quad (a segment) placed by a rotation, its world
+/// positions a near-collinear sliver, and the other a quad that crosses it: the pair
+/// intersects exactly, so it is reported at epsilon 0 and at 0.05 (a polygon lies in its
+/// own viewing volume), by `query` with either mesh as the reference and by `query_all`.
+/// Variants: unplaced, the quad's first and second triangles alone (a triangle of three
+/// collinear points), the other as a triangle. The exact answer is the big-integer one on
+/// the double world positions.
+#[test]
+fn a_placed_collinear_quad_is_reported_in_a_band() {
+    let m: M = hexes(
+        "0x1.dc2e3b187bcep-4 0x1.52ba9ebc3cdfbp-1 0x1.7b4b3249449abp-1 0 \
+         0x1.73d089d388c1fp-1 0x1.cf11e5fc0a366p-2 -0x1.091f215cbfcfp-1 0 \
+         -0x1.5aec10b390559p-1 0x1.3243d5c4186d8p-1 -0x1.b622d38db2e28p-2 0",
+    );
+    let a: [f64; 12] = hexes("0 0 0 0x1.b4e496p-1 0 0 0x1p+0 0 0 0x1.026f88p-1 0 0");
+    let b: [f64; 12] = hexes(
+        "0x1.c39572p-2 -0x1.e0b198p-9 0x1.7f172p-6 0x1.57c8cap+0 -0x1.dc2564p-3 \
+         0x1.06007cp-2 0x1.640988p+0 0x1.fc357p-5 -0x1.215f26p-2 0x1.0f5a9p+0 \
+         0x1.f4c9a2p-2 -0x1.98a5f2p-2",
+    );
+    let pts = |v: &[f64; 12], which: &[usize]| -> Vec<[f32; 3]> {
+        which
+            .iter()
+            .map(|&i| {
+                let p = [v[3 * i], v[3 * i + 1], v[3 * i + 2]].map(|x| x as f32);
+                assert_eq!(p.map(f64::from), [v[3 * i], v[3 * i + 1], v[3 * i + 2]]);
+                p
+            })
+            .collect()
+    };
+    let mesh = |pos: Vec<[f32; 3]>| TestMesh {
+        idx: (0..pos.len() as u32).collect(),
+        k: pos.len(),
+        pos,
+    };
+    // The polygon's triangles at its world positions, as the library makes a quad's.
+    let tris = |t: &TestMesh, m: Option<&M>| -> Vec<[[f64; 3]; 3]> {
+        let w = |i: usize| match m {
+            Some(m) => world(m, &t.pos[i]),
+            None => t.pos[i].map(f64::from),
+        };
+        if t.k == 3 {
+            vec![[w(0), w(1), w(2)]]
+        } else {
+            vec![[w(0), w(1), w(2)], [w(0), w(2), w(3)]]
+        }
+    };
+    let mut crossing = 0;
+    for (name, wa, wb) in [
+        ("quad vs quad", &[0, 1, 2, 3][..], &[0, 1, 2, 3][..]),
+        ("first triangle vs quad", &[0, 1, 2][..], &[0, 1, 2, 3][..]),
+        ("second triangle vs quad", &[0, 2, 3][..], &[0, 1, 2, 3][..]),
+        ("quad vs triangle", &[0, 1, 2, 3][..], &[0, 1, 2][..]),
+        ("quad vs triangle 023", &[0, 1, 2, 3][..], &[0, 2, 3][..]),
+    ] {
+        let (ta, tb) = (mesh(pts(&a, wa)), mesh(pts(&b, wb)));
+        for placed in [true, false] {
+            let mm = placed.then_some(&m);
+            let want = tris(&ta, mm)
+                .iter()
+                .any(|t| tris(&tb, mm).iter().any(|u| exact_triangles_meet(t, u)));
+            crossing += usize::from(want);
+            for epsilon in [0.05, 0.0] {
+                let mut s = scene(epsilon, 1);
+                let (ia, ib) = (add(&mut s, &ta), add(&mut s, &tb));
+                if placed {
+                    s.set_transform(ia, Some(&m)).unwrap();
+                    s.set_transform(ib, Some(&m)).unwrap();
+                }
+                let by_a = !s.query(ia).unwrap().is_empty();
+                let by_b = !s.query(ib).unwrap().is_empty();
+                let all = !s.query_all().unwrap().is_empty();
+                let what = format!("{name}, placed {placed}, epsilon {epsilon}: exact {want}");
+                if want || epsilon == 0.0 {
+                    // Exact at epsilon 0; a superset of the exact answer in a band.
+                    assert_eq!(
+                        (by_a, by_b, all),
+                        (want, want, want),
+                        "{what}: (query a, query b, query_all)"
+                    );
+                }
+                // query_all is the union of both ways round.
+                assert!(all == (by_a || by_b), "{what}: {by_a} {by_b} {all}");
+            }
+        }
+    }
+    assert!(crossing >= 2, "only {crossing} variants cross");
+}
+
+// ---------------------------------------------------------------------------------------
 // Bad input changes nothing.
 
 #[test]

@@ -6,7 +6,11 @@
 //! prism over the triangle (two caps, three edge planes), which is how it is stored here.
 //! A degenerate triangle has no plane; its volume is the box of half-width `h/sqrt(2)` around
 //! its segment (or `h/sqrt(3)` around its point), so every point of every volume lies within
-//! `h` of the polygon.
+//! `h` of the polygon. So has, in `f64`, a sliver so thin that the rounding of its normal
+//! leaves its own corners outside the prism built on it (a collinear quad placed by a
+//! rotation: corners a rounding off one line): its volume is the box around its longest
+//! edge, widened to hold its corners ([`Cell::of_triangle`]). Every volume holds its
+//! triangle (to rounding), which [`Cell::far_from`] relies on.
 //!
 //! "A primitive is selected when any part of it survives clipping against the volume's
 //! planes": [`Cell::meets_triangle`] clips the candidate (Sutherland-Hodgman, closed
@@ -100,7 +104,8 @@ impl Cell {
             cell.shown = cell.count;
             return cell;
         }
-        let n = unit(&cross(&a, &b));
+        let c = cross(&a, &b);
+        let n = unit(&c);
         cell.push(n, h);
         cell.push(scale(&n, -1.0), h);
         let v = [[0.0; 3], a, b];
@@ -125,10 +130,36 @@ impl Cell {
                 cell.push(m, -dot(&m, &p));
             }
         }
+        // A sliver (sine of the angle at the first corner below 1e-3): its computed normal
+        // may be off by 2^-50 / sine radian and more (all rounding, for corners a rounding
+        // off one line), and a prism on a wrong normal does not hold the triangle (its
+        // corners beyond the caps by up to the triangle's size), which both the clipping and
+        // `far_from` (the cheap rejection before the exact test) take for granted. Checked
+        // there only (a sine of 1e-3 or more keeps the corners within 1e-12 of the size):
+        // a prism that misses a corner by more than 1e-11 of the size gives way to the box.
+        let nn = dot(&c, &c);
+        if nn < 1e-6 * dot(&a, &a) * dot(&b, &b) && !cell.holds(&v, h) {
+            cell.count = 0;
+            cell.set_degenerate(&v, h);
+            cell.shown = cell.count;
+        }
         cell
     }
 
-    /// Box around a segment or point given in local coordinates.
+    /// Every corner of `v` (local coordinates) inside every plane to within `1e-11` of the
+    /// local size (`h` plus the corners' largest coordinate); false where a plane is NaN.
+    fn holds(&self, v: &[P3; 3], h: f64) -> bool {
+        let size = v.iter().flatten().fold(h, |m, x| m.max(x.abs()));
+        let tol = 1e-11 * size;
+        self.planes[..self.count].iter().all(|pl| {
+            v.iter()
+                .all(|x| pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] + pl[3] >= -tol)
+        })
+    }
+
+    /// Box around a segment or point given in local coordinates: along the longest edge
+    /// `u` and two axes across it, each pair of faces `r` beyond the corners' extremes (a
+    /// sliver's corners off its longest edge widen the box by as much).
     fn set_degenerate(&mut self, v: &[P3; 3], h: f64) {
         let (mut p, mut q, mut best) = (0, 0, 0.0);
         for i in 0..3 {
@@ -155,15 +186,18 @@ impl Cell {
         };
         let w1 = unit(&cross(&u, &k));
         let w2 = cross(&u, &w1);
-        let (lo, hi) = (dot(&u, &v[p]), dot(&u, &v[q]));
+        let span = |w: &P3| {
+            let d = v.map(|x| dot(w, &x));
+            (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]))
+        };
+        let (lo, hi) = span(&u);
         let along = if best > 0.0 { 0.0 } else { r };
         self.push(u, -lo + along);
         self.push(scale(&u, -1.0), hi + along);
-        let c = v[p];
         for w in [w1, w2] {
-            let off = dot(&w, &c);
-            self.push(w, r - off);
-            self.push(scale(&w, -1.0), r + off);
+            let (lo, hi) = span(&w);
+            self.push(w, r - lo);
+            self.push(scale(&w, -1.0), r + hi);
         }
     }
 
@@ -362,6 +396,69 @@ mod tests {
         assert!(!Cell::of_triangle(&needle, h).meets_triangle(&b));
         let rot = [needle[1], needle[2], needle[0]];
         assert!(!Cell::of_triangle(&rot, h).meets_triangle(&b));
+    }
+
+    /// Collinear points on the x axis placed by a random rotation (as
+    /// `glcol_mesh_set_transform` places them: no fused multiply-add) are a sliver whose
+    /// `f64` normal may be all rounding (contact_check's "quads degenerate vs quads, placed"
+    /// pair 437: the prism on it left the triangle's corners a distance 0.6 outside, and
+    /// `far_from` dropped a quad crossing it). Every volume holds its triangle's corners
+    /// (and `far_from` never rejects them), and a sliver's box stays within `h` of it.
+    #[test]
+    fn a_placed_collinear_triangle_lies_in_its_volume() {
+        let mut rng = crate::geom::test_rng::Rng(0x5_11CE_u64);
+        let mut boxes = 0;
+        for i in 0..20_000 {
+            let q = loop {
+                let q = [0; 4].map(|_| rng.range(-1.0, 1.0));
+                let n = dot(&[q[0], q[1], q[2]], &[q[0], q[1], q[2]]) + q[3] * q[3];
+                if n > 0.1 && n < 1.0 {
+                    break q.map(|x| x / n.sqrt());
+                }
+            };
+            let [w, x, y, z] = q;
+            let col = [
+                1. - 2. * (y * y + z * z),
+                2. * (x * y + w * z),
+                2. * (x * z - w * y),
+            ];
+            let off = [0.0, 1.0, 1e3][i % 3];
+            let t: [P3; 3] = std::array::from_fn(|_| {
+                let s = rng.range(-1.0, 1.0) as f32 as f64;
+                // m * (s, 0, 0, 1), the other columns times 0.
+                std::array::from_fn(|r| std::hint::black_box(col[r] * s) + 0.0 + 0.0 + off)
+            });
+            let h = [0.025, 1e-4, 0.5][i / 3 % 3];
+            let c = Cell::of_triangle(&t, h);
+            boxes += usize::from(!c.is_prism());
+            for p in &t {
+                // Inside every plane but for rounding (1e-11 of the size: 1e-16 is usual).
+                let x = sub(p, &t[0]);
+                for pl in &c.planes[..c.count] {
+                    let v = pl[0] * x[0] + pl[1] * x[1] + pl[2] * x[2] + pl[3];
+                    assert!(v >= -1e-11 * (off + 1.0), "{i}: {t:?} h {h}: {v}");
+                }
+                assert!(!c.far_from(&[*p; 3], h), "{i}: {t:?} h {h}");
+            }
+            if !c.is_prism() && off == 0.0 {
+                // The box's corners within h (and rounding) of the segment's line.
+                let u = unit(&sub(&t[1], &t[0]));
+                let u = if u[0].is_nan() {
+                    unit(&sub(&t[2], &t[0]))
+                } else {
+                    u
+                };
+                for pl in c.planes().chunks(2) {
+                    let a = [pl[0][0], pl[0][1], pl[0][2]];
+                    let across = 1.0 - dot(&a, &u).abs() > 1e-6;
+                    if across {
+                        let width = pl[0][3] + pl[1][3];
+                        assert!(width <= 2.0 * h / 2f64.sqrt() * (1.0 + 1e-9), "{width}");
+                    }
+                }
+            }
+        }
+        assert!(boxes > 1000, "{boxes} slivers made boxes");
     }
 
     #[test]
