@@ -77,11 +77,18 @@ pub(super) const SCENE_DESC_SIZES: [(usize, &str); 2] = [
     ),
 ];
 
-/// `GlcolMeshDesc` sizes accepted (one version so far).
-pub(super) const MESH_DESC_SIZES: [(usize, &str); 1] = [(
-    std::mem::size_of::<GlcolMeshDesc>(),
-    "sizeof(GlcolMeshDesc) of this glcollide",
-)];
+/// `GlcolMeshDesc` sizes accepted: this version's, and 0.1's (which ends before
+/// `positions_f64`).
+pub(super) const MESH_DESC_SIZES: [(usize, &str); 2] = [
+    (
+        std::mem::size_of::<GlcolMeshDesc>(),
+        "sizeof(GlcolMeshDesc) of this glcollide",
+    ),
+    (
+        std::mem::offset_of!(GlcolMeshDesc, positions_f64),
+        "glcollide 0.1's, without positions_f64",
+    ),
+];
 
 /// The defaults `glcol_scene_desc_init` writes.
 pub(super) fn scene_desc_defaults() -> GlcolSceneDesc {
@@ -106,6 +113,7 @@ pub(super) fn mesh_desc_defaults() -> GlcolMeshDesc {
         indices: std::ptr::null(),
         polygon_count: 0,
         vertices_per_polygon: 3,
+        positions_f64: std::ptr::null(),
     }
 }
 
@@ -142,6 +150,40 @@ pub(super) unsafe fn positions<'a>(
         &[]
     };
     Ok(Positions::new(bytes, count, stride)?)
+}
+
+/// `Positions` over the caller's double array after every check that can be made (an f64
+/// mesh's positions; stride 0 = 24).
+///
+/// # Safety
+/// `p` is NULL or readable for `count` vertices `stride` bytes apart (0 = 24) for `'a`.
+pub(super) unsafe fn positions_f64<'a>(
+    p: *const f64,
+    count: usize,
+    stride: usize,
+) -> Result<Positions<'a>, Fail> {
+    non_null(p, "positions")?;
+    if count == 0 {
+        return Err(invalid("vertex_count is 0"));
+    }
+    aligned(p, "positions")?;
+    let s = Positions::stride_or_packed_f64(stride);
+    let len = Positions::byte_len_f64(count, s)
+        .filter(|&n| n <= isize::MAX as usize)
+        .ok_or_else(|| {
+            invalid(format!(
+                "vertex_count {count} times position_stride {stride} overflows"
+            ))
+        })?;
+    // The stride itself (>= 24, multiple of 8) is checked by Positions::new_f64.
+    let bytes = if s >= 24 {
+        // SAFETY: non-null and aligned (checked), `len` <= isize::MAX (checked), and the
+        // caller's contract: `count` vertices `s` apart, `len` bytes, are readable for 'a.
+        unsafe { std::slice::from_raw_parts(p.cast::<u8>(), len) }
+    } else {
+        &[]
+    };
+    Ok(Positions::new_f64(bytes, count, stride)?)
 }
 
 /// Writes `v`'s first element (NULL when empty) and length to the out-parameters.
