@@ -120,7 +120,7 @@ fn geometry_refuses_after_every_change_the_header_lists() {
                 let p = [0.0f32, 0.0, 5.0, 1.0, 0.0, 5.0, 0.0, 1.0, 5.0];
                 let idx = [0u32, 1, 2];
                 let mut d = std::mem::zeroed::<GlcolMeshDesc>();
-                glcol_mesh_desc_init(&mut d);
+                glcol_mesh_desc_init_sized(&mut d, std::mem::size_of::<GlcolMeshDesc>());
                 d.positions = p.as_ptr();
                 d.vertex_count = 3;
                 d.indices = idx.as_ptr();

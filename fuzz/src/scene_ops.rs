@@ -374,7 +374,9 @@ pub fn run(data: &[u8]) {
                 let strided = c.below(4) == 0;
                 let (buf, stride) = layout(&pos, strided, f32::NAN);
                 let mut md = unsafe { std::mem::zeroed::<GlcolMeshDesc>() };
-                unsafe { glcol_mesh_desc_init(&mut md) };
+                unsafe {
+                    glcol_mesh_desc_init_sized(&mut md, std::mem::size_of::<GlcolMeshDesc>())
+                };
                 md.positions = buf.as_ptr();
                 md.vertex_count = nv;
                 md.position_stride = stride;
