@@ -490,9 +490,9 @@ fn bad_f64_input_is_refused_with_a_message_and_changes_nothing() {
         let e = create(&s, &d).unwrap_err();
         expect(&format!("stride {stride}"), e.0, S::InvalidArgument, needle);
     }
-    let bytes = vec![0u8; 8 * 10 + 4];
+    let words = [0.0f64; 11];
     let mut d = desc64(&flat.pos, &flat.idx);
-    d.positions_f64 = unsafe { bytes.as_ptr().add(4) }.cast();
+    d.positions_f64 = unsafe { words.as_ptr().cast::<u8>().add(4) }.cast();
     let e = create(&s, &d).unwrap_err();
     expect("misaligned", e.0, S::InvalidArgument, "aligned");
     // Updating: each call for its own kind of mesh.

@@ -2,12 +2,12 @@
 //! them to host GL buffers.
 
 use super::desc::{
-    aligned, mesh_desc_defaults, positions, positions_f64, read_desc, MESH_DESC_SIZES,
+    aligned, init_sized, mesh_desc_defaults, positions, read_desc, Coordinate, MESH_DESC_SIZES,
 };
 use super::guard::{guard, invalid, non_null, FfiResult};
 use super::scene::{scene_mut, GlcolScene};
 use super::types::*;
-use crate::Mesh;
+use crate::{Mesh, Positions, Scene};
 
 /// The exported symbol that programs built against glcollide 0.1's header call: it fills
 /// 0.1's `GlcolMeshDesc` (everything up to `positions_f64`, which it cannot know the caller
@@ -48,26 +48,17 @@ pub unsafe extern "C" fn glcol_mesh_desc_init_sized(
     size: usize,
 ) -> GlcolStatus {
     guard(|| {
-        non_null(desc, "desc")?;
-        aligned(desc, "desc")?;
-        let Some(&(n, _)) = MESH_DESC_SIZES.iter().find(|&&(n, _)| n == size) else {
-            let want = MESH_DESC_SIZES
-                .iter()
-                .map(|&(n, note)| format!("{n} ({note})"))
-                .collect::<Vec<_>>()
-                .join(" or ");
-            return Err(invalid(format!(
-                "size is {size}, expected {want}: pass sizeof(GlcolMeshDesc)"
-            )));
-        };
-        let mut d = mesh_desc_defaults();
-        d.struct_size = n as u32;
-        // SAFETY: non-null and aligned (checked); the caller's contract: `size` == `n`
-        // writable bytes; `n` is one of MESH_DESC_SIZES, a prefix of whole fields of `d`.
+        // SAFETY: the caller's contract: NULL (refused) or `size` writable bytes.
         unsafe {
-            std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n)
-        };
-        Ok(())
+            init_sized(
+                desc,
+                size,
+                &MESH_DESC_SIZES,
+                mesh_desc_defaults(),
+                |d, n| d.struct_size = n,
+                "GlcolMeshDesc",
+            )
+        }
     })
 }
 
@@ -141,7 +132,7 @@ pub unsafe extern "C" fn glcol_mesh_create(
         let pos = if d.positions.is_null() {
             // SAFETY: the caller's contract: `positions_f64` holds `vertex_count` vertices
             // `position_stride` apart.
-            unsafe { positions_f64(d.positions_f64, d.vertex_count, d.position_stride) }?
+            unsafe { positions(d.positions_f64, d.vertex_count, d.position_stride) }?
         } else {
             // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
             // `position_stride` apart.
@@ -196,16 +187,46 @@ pub unsafe extern "C" fn glcol_mesh_update_positions(
     vertex_count: usize,
     position_stride: usize,
 ) -> GlcolStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_update_positions",
+            |s, pos| s.update_positions(mesh, first_vertex, pos),
+        )
+    }
+}
+
+/// What the calls that hand over positions for vertices `first..first + count` of `mesh`
+/// share: the checks of [`before_positions`], the array read as [`positions`] reads it,
+/// then `apply` with them.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `p` is NULL or readable for `count` vertices `stride`
+/// bytes apart.
+#[allow(clippy::too_many_arguments)]
+unsafe fn hand_over<T: Coordinate>(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    p: *const T,
+    first: usize,
+    count: usize,
+    stride: usize,
+    what: &str,
+    apply: impl FnOnce(&mut Scene, Positions<'_>) -> crate::Result<()>,
+) -> GlcolStatus {
     guard(|| {
         // SAFETY: the caller's contract: NULL (refused) or a live scene.
         let s = unsafe { scene_mut(scene) }?;
-        let what = "glcol_mesh_update_positions";
-        before_positions(s, mesh, positions, first_vertex, vertex_count, false, what)?;
-        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
-        // `position_stride` apart.
-        let pos = unsafe { self::positions(positions, vertex_count, position_stride) }?;
-        s.scene.update_positions(mesh, first_vertex, pos)?;
-        Ok(())
+        before_positions(s, mesh, p, first, count, T::F64, what)?;
+        // SAFETY: the caller's contract: `p` holds `count` vertices `stride` apart.
+        let pos = unsafe { positions(p, count, stride) }?;
+        Ok(apply(&mut s.scene, pos)?)
     })
 }
 
@@ -267,17 +288,19 @@ pub unsafe extern "C" fn glcol_mesh_update_positions_f64(
     vertex_count: usize,
     position_stride: usize,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        let what = "glcol_mesh_update_positions_f64";
-        before_positions(s, mesh, positions, first_vertex, vertex_count, true, what)?;
-        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
-        // `position_stride` apart.
-        let pos = unsafe { positions_f64(positions, vertex_count, position_stride) }?;
-        s.scene.update_positions(mesh, first_vertex, pos)?;
-        Ok(())
-    })
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_update_positions_f64",
+            |s, pos| s.update_positions(mesh, first_vertex, pos),
+        )
+    }
 }
 
 /// The end of a continuous step for a float mesh: vertices `first_vertex .. first_vertex +
@@ -305,16 +328,19 @@ pub unsafe extern "C" fn glcol_mesh_set_target_positions(
     vertex_count: usize,
     position_stride: usize,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        let what = "glcol_mesh_set_target_positions";
-        before_positions(s, mesh, positions, first_vertex, vertex_count, false, what)?;
-        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
-        // `position_stride` apart.
-        let pos = unsafe { self::positions(positions, vertex_count, position_stride) }?;
-        Ok(s.scene.set_target_positions(mesh, first_vertex, pos)?)
-    })
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_set_target_positions",
+            |s, pos| s.set_target_positions(mesh, first_vertex, pos),
+        )
+    }
 }
 
 /// `glcol_mesh_set_target_positions` for an f64 mesh: the target positions are doubles
@@ -334,16 +360,19 @@ pub unsafe extern "C" fn glcol_mesh_set_target_positions_f64(
     vertex_count: usize,
     position_stride: usize,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        let what = "glcol_mesh_set_target_positions_f64";
-        before_positions(s, mesh, positions, first_vertex, vertex_count, true, what)?;
-        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
-        // `position_stride` apart.
-        let pos = unsafe { positions_f64(positions, vertex_count, position_stride) }?;
-        Ok(s.scene.set_target_positions(mesh, first_vertex, pos)?)
-    })
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_set_target_positions_f64",
+            |s, pos| s.set_target_positions(mesh, first_vertex, pos),
+        )
+    }
 }
 
 /// The transform `mesh` takes at the end of a continuous step (a row-major 3x4 matrix,

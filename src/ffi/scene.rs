@@ -1,6 +1,6 @@
 //! `GlcolScene`: making, asking about and destroying a scene.
 
-use super::desc::{aligned, read_desc, scene_desc_defaults, SCENE_DESC_SIZES};
+use super::desc::{aligned, init_sized, read_desc, scene_desc_defaults, SCENE_DESC_SIZES};
 use super::guard::{guard, guard_or, invalid, non_null, Fail};
 use super::types::*;
 use std::ffi::CStr;
@@ -110,26 +110,17 @@ pub unsafe extern "C" fn glcol_scene_desc_init_sized(
     size: usize,
 ) -> GlcolStatus {
     guard(|| {
-        non_null(desc, "desc")?;
-        aligned(desc, "desc")?;
-        let Some(&(n, _)) = SCENE_DESC_SIZES.iter().find(|&&(n, _)| n == size) else {
-            let want = SCENE_DESC_SIZES
-                .iter()
-                .map(|&(n, note)| format!("{n} ({note})"))
-                .collect::<Vec<_>>()
-                .join(" or ");
-            return Err(invalid(format!(
-                "size is {size}, expected {want}: pass sizeof(GlcolSceneDesc)"
-            )));
-        };
-        let mut d = scene_desc_defaults();
-        d.struct_size = n as u32;
-        // SAFETY: non-null and aligned (checked); the caller's contract: `size` == `n`
-        // writable bytes; `n` is one of SCENE_DESC_SIZES, a prefix of whole fields of `d`.
+        // SAFETY: the caller's contract: NULL (refused) or `size` writable bytes.
         unsafe {
-            std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n)
-        };
-        Ok(())
+            init_sized(
+                desc,
+                size,
+                &SCENE_DESC_SIZES,
+                scene_desc_defaults(),
+                |d, n| d.struct_size = n,
+                "GlcolSceneDesc",
+            )
+        }
     })
 }
 

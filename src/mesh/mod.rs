@@ -508,17 +508,8 @@ impl Mesh {
     /// (NonFinite). Drops the mesh's target when it succeeds.
     pub fn update_positions(&mut self, first: usize, src: Positions<'_>) -> Result<()> {
         self.check_precision(&src, "update_positions")?;
-        let n = self.vertex_count();
-        let end = first
-            .checked_add(src.len())
-            .filter(|&e| e <= n)
-            .ok_or_else(|| {
-                Error::invalid(format!(
-                    "first_vertex {first} + vertex_count {} runs past the mesh's {n} vertices",
-                    src.len()
-                ))
-            })?;
-        let full = first == 0 && end == n;
+        let end = self.vertex_range(first, src.len())?;
+        let full = first == 0 && end == self.vertex_count();
         if !src.all_finite() {
             let at = src.first_non_finite().unwrap_or(0);
             let v = if full { at } else { first + at };
@@ -565,6 +556,17 @@ impl Mesh {
         self.generation += 1;
         self.target = None;
         Ok(())
+    }
+
+    /// The end of the caller's vertex range `first..first + count`, or InvalidArgument when
+    /// it runs past the mesh's vertices.
+    pub(crate) fn vertex_range(&self, first: usize, count: usize) -> Result<usize> {
+        let n = self.vertex_count();
+        first.checked_add(count).filter(|&e| e <= n).ok_or_else(|| {
+            Error::invalid(format!(
+                "first_vertex {first} + vertex_count {count} runs past the mesh's {n} vertices"
+            ))
+        })
     }
 
     /// InvalidArgument unless `src` has the mesh's precision (`what`: the call).

@@ -60,7 +60,7 @@ impl<'a> Positions<'a> {
 
     /// Checks a strided array of `count` vertices of three `word`-byte values.
     fn check(bytes: &[u8], count: usize, stride: usize, word: usize) -> Result<()> {
-        if stride < 3 * word || stride % word != 0 {
+        if stride < 3 * word || !stride.is_multiple_of(word) {
             return Err(Error::invalid(format!(
                 "position_stride {stride} must be 0 or a multiple of {word} that is at least {}",
                 3 * word
@@ -124,11 +124,6 @@ impl<'a> Positions<'a> {
     /// Bytes a strided array of `count` float vertices spans (`None` on overflow).
     pub fn byte_len(count: usize, stride: usize) -> Option<usize> {
         Self::byte_len_of(count, stride, 12)
-    }
-
-    /// Bytes a strided array of `count` double vertices spans (`None` on overflow).
-    pub fn byte_len_f64(count: usize, stride: usize) -> Option<usize> {
-        Self::byte_len_of(count, stride, 24)
     }
 
     fn byte_len_of(count: usize, stride: usize, vertex: usize) -> Option<usize> {
@@ -265,9 +260,9 @@ pub(crate) fn in_range(p: &[f64; 3]) -> bool {
 /// Grows `b` to hold the double point `p` (rounded outward to floats).
 #[inline]
 pub(crate) fn grow_f64(b: &mut Aabb, p: &[f64; 3]) {
-    for k in 0..3 {
-        b.min[k] = b.min[k].min(f32_down(p[k]));
-        b.max[k] = b.max[k].max(f32_up(p[k]));
+    for ((lo, hi), &x) in b.min.iter_mut().zip(&mut b.max).zip(p) {
+        *lo = lo.min(f32_down(x));
+        *hi = hi.max(f32_up(x));
     }
 }
 

@@ -171,16 +171,7 @@ impl Mesh {
     /// An empty range changes nothing.
     pub fn set_target_positions(&mut self, first: usize, src: Positions<'_>) -> Result<()> {
         self.check_precision(&src, "set_target_positions")?;
-        let n = self.vertex_count();
-        let end = first
-            .checked_add(src.len())
-            .filter(|&e| e <= n)
-            .ok_or_else(|| {
-                Error::invalid(format!(
-                    "first_vertex {first} + vertex_count {} runs past the mesh's {n} vertices",
-                    src.len()
-                ))
-            })?;
+        let end = self.vertex_range(first, src.len())?;
         if let Some(at) = src.first_non_finite() {
             return Err(src.non_finite(first + at, &src.get_f64(at)));
         }
