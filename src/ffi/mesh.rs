@@ -22,15 +22,18 @@ use crate::{Mesh, Positions, Scene};
 /// `sizeof(GlcolMeshDesc)` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
-    if desc.is_null() {
-        return;
-    }
-    let n = MESH_DESC_SIZES[1].0;
-    let mut d = mesh_desc_defaults();
-    d.struct_size = n as u32;
-    // SAFETY: non-null (checked); the caller's contract: writable and aligned for 0.1's
-    // size `n`, a prefix of whole fields of `d` (a distinct local).
-    unsafe { std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n) };
+    // SAFETY: the caller's contract: NULL or writable for 0.1's size. A NULL (or
+    // misaligned) `desc` is ignored: nothing is written, and no message is set.
+    let _ = unsafe {
+        init_sized(
+            desc,
+            MESH_DESC_SIZES[1].0,
+            &MESH_DESC_SIZES,
+            mesh_desc_defaults(),
+            |d, n| d.struct_size = n,
+            "GlcolMeshDesc",
+        )
+    };
 }
 
 /// Fills a `GlcolMeshDesc` of `size` bytes (`sizeof(GlcolMeshDesc)` of the header the

@@ -84,15 +84,18 @@ const MAX_THREADS: u32 = 1024;
 /// `sizeof(GlcolSceneDesc)` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
-    if desc.is_null() {
-        return;
-    }
-    let n = SCENE_DESC_SIZES[1].0;
-    let mut d = scene_desc_defaults();
-    d.struct_size = n as u32;
-    // SAFETY: non-null (checked); the caller's contract: writable and aligned for 0.1's
-    // size `n`, a prefix of whole fields of `d` (a distinct local).
-    unsafe { std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n) };
+    // SAFETY: the caller's contract: NULL or writable for 0.1's size. A NULL (or
+    // misaligned) `desc` is ignored: nothing is written, and no message is set.
+    let _ = unsafe {
+        init_sized(
+            desc,
+            SCENE_DESC_SIZES[1].0,
+            &SCENE_DESC_SIZES,
+            scene_desc_defaults(),
+            |d, n| d.struct_size = n,
+            "GlcolSceneDesc",
+        )
+    };
 }
 
 /// Fills a `GlcolSceneDesc` of `size` bytes (`sizeof(GlcolSceneDesc)` of the header the
