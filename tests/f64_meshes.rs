@@ -315,6 +315,15 @@ fn near_touching_pairs_get_the_exact_answer_from_every_cpu_engine() {
             s.update_positions_f64(ids[1], 0, &[[0.0; 3]]).unwrap();
             s.update_positions_f64(ids[1], 0, &ms[1].pos[..1]).unwrap();
             assert_eq!(by_index(by_reference(&mut s, &ids), &ids), want);
+            // Full updates: every mesh moved by 1 unit along x, then back.
+            for (id, m) in ids.iter().zip(&ms) {
+                let moved: Vec<[f64; 3]> = m.pos.iter().map(|p| [p[0] + 1.0, p[1], p[2]]).collect();
+                s.update_positions_f64(*id, 0, &moved).unwrap();
+            }
+            for (id, m) in ids.iter().zip(&ms) {
+                s.update_positions_f64(*id, 0, &m.pos).unwrap();
+            }
+            assert_eq!(by_index(by_reference(&mut s, &ids), &ids), want);
         }
     }
 }

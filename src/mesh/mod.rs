@@ -586,11 +586,23 @@ impl Mesh {
 
     /// Copies `src` to the caller's vertices `first..` (checked by the caller).
     fn write_positions(&mut self, first: usize, src: &Positions<'_>) {
-        if self.is_f64() {
+        let full = first == 0 && src.len() == self.vertex_count();
+        if self.is_f64() && full {
+            // Slot by slot, as the float gather.
+            for ((d, f), &v) in self
+                .slots64
+                .iter_mut()
+                .zip(&mut self.slots)
+                .zip(&self.slot_vertex)
+            {
+                *d = src.get_f64(v as usize);
+                *f = d.map(|x| x as f32);
+            }
+        } else if self.is_f64() {
             for i in 0..src.len() {
                 self.set_vertex(first + i, src.get_f64(i));
             }
-        } else if first == 0 && src.len() == self.vertex_count() {
+        } else if full {
             src.gather(&self.slot_vertex, &mut self.slots);
         } else {
             for i in 0..src.len() {
