@@ -651,4 +651,49 @@ mod gl {
             }
         }
     }
+
+    /// A query that would pair an f64 mesh (answered on the CPU) with a mesh read from a GL
+    /// buffer on GL_COMPUTE (whose positions are on the GPU only) is refused, UNSUPPORTED
+    /// naming both, as for a transformed mesh; disabling one side answers again.
+    #[test]
+    fn an_f64_mesh_and_a_gl_buffer_mesh_are_not_paired() {
+        use glow::HasContext;
+        let ctx = Ctx::new(Profile::Core);
+        let g = ctx.glow();
+        let sq = common::square(0.0, 0.0);
+        let mut s = FfiScene(gl_support::scene(GlcolBackend::GlCompute, 0.0, 0));
+        let a = s.add(&sq);
+        // SAFETY: this test's GL context is current on this thread; the buffer is its own.
+        let host = unsafe {
+            let host = g.create_buffer().unwrap();
+            g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
+            let bytes = std::slice::from_raw_parts(sq.pos.as_ptr().cast::<u8>(), sq.pos.len() * 12);
+            g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+            g.bind_buffer(glow::ARRAY_BUFFER, None);
+            host
+        };
+        ok(
+            unsafe { glcol_mesh_bind_gl_buffer(s.0, a, host.0.get(), 0, 12) },
+            "bind",
+        );
+        let wall: Vec<[f64; 3]> = common::wall(0.5)
+            .pos
+            .iter()
+            .map(|p| p.map(f64::from))
+            .collect();
+        let b = create(&s, &desc64(&wall, &[0, 1, 2, 0, 2, 3])).unwrap();
+        let st = unsafe { glcol_mesh_bind_gl_buffer(s.0, b, host.0.get(), 0, 12) };
+        assert_eq!(st, S::Unsupported, "{}", last_error());
+        let (st, _) = s.try_query(b);
+        assert_eq!(st, S::Unsupported);
+        let msg = last_error();
+        assert!(
+            msg.contains(&a.to_string()) && msg.contains(&b.to_string()),
+            "{msg}"
+        );
+        ok(unsafe { glcol_mesh_set_enabled(s.0, a, false) }, "disable");
+        assert!(s.query(b).is_empty());
+        // SAFETY: as above.
+        unsafe { g.delete_buffer(host) };
+    }
 }
