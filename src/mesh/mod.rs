@@ -346,8 +346,9 @@ impl Mesh {
         &self.leaves
     }
 
-    /// The world leaf boxes: the local ones, or with a placement boxes holding every world
-    /// position of their leaves (in `f32`, rounded outward).
+    /// The world leaf boxes: the local ones (an f64 mesh's rounded outward to `f32`), or
+    /// with a placement boxes holding every world position of their leaves (in `f32`,
+    /// rounded outward).
     #[inline]
     pub fn leaf_boxes(&self) -> &[Aabb] {
         match &self.place {
@@ -357,7 +358,7 @@ impl Mesh {
     }
 
     /// The world root box: every vertex of the mesh at its world position (rounded
-    /// outward to `f32` under a placement).
+    /// outward to `f32` under a placement or for an f64 mesh).
     #[inline]
     pub fn root(&self) -> Aabb {
         match &self.place {
@@ -441,7 +442,8 @@ impl Mesh {
             .then(|| self.world(self.vertex_slots[s] as usize))
     }
 
-    /// Slot positions, leaf after leaf (what the polygons index).
+    /// Slot positions, leaf after leaf (what the polygons index); an f64 mesh's rounded to
+    /// the nearest floats (its doubles: [`Mesh::vertex_position_f64`]).
     pub fn slot_positions(&self) -> &[[f32; 3]] {
         &self.slots
     }
