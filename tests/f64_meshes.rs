@@ -385,6 +385,64 @@ fn contact_geometry_is_the_placed_float_meshs_bit_for_bit() {
     assert!(compared > 20);
 }
 
+/// Quads too (each the union of its two triangles, bent ones included): an f64 quad mesh
+/// answers, with its geometry, as the placed float quad mesh of the same world positions.
+#[test]
+fn quads_answer_as_the_placed_float_quads() {
+    let pot = TestMesh::from_obj(&shared_mesh("teapot"));
+    let n = 12;
+    let mut quads = TestMesh {
+        pos: Vec::new(),
+        idx: Vec::new(),
+        k: 4,
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            let bump = ((i * 7 + j * 3) % 5) as f32 * 0.05;
+            quads
+                .pos
+                .push([i as f32 * 0.25 - 1.5, j as f32 * 0.25 - 1.5, bump]);
+        }
+    }
+    for j in 0..n as u32 {
+        for i in 0..n as u32 {
+            let v = j * (n as u32 + 1) + i;
+            quads
+                .idx
+                .extend([v, v + 1, v + n as u32 + 2, v + n as u32 + 1]);
+        }
+    }
+    let (lo, hi) = common::bounds(&pot.pos);
+    let centre = [0, 1, 2].map(|k| (lo[k] + hi[k]) as f64 / 2.0);
+    let mut r = Rng(0x4);
+    let mut compared = 0;
+    for _ in 0..3 {
+        let m = random_rotation(&mut r, 1.0, centre);
+        let doubles: Vec<[f64; 3]> = quads.pos.iter().map(|p| world(&m, p)).collect();
+        let answer = |f64_mesh: bool| {
+            let mut s = scene(0.0, 2);
+            let a = common::add(&mut s, &pot);
+            let b = if f64_mesh {
+                s.create_mesh(Positions::from_points_f64(&doubles), &quads.idx, 4)
+                    .unwrap()
+            } else {
+                let b = common::add(&mut s, &quads);
+                s.set_transform(b, Some(&m)).unwrap();
+                b
+            };
+            let pairs: Vec<_> = all(&mut s)
+                .into_iter()
+                .map(|(x, i, y, j)| (x == a, i, y == b, j))
+                .collect();
+            (pairs, format!("{:?}", s.contact_geometry().unwrap()))
+        };
+        let want = answer(false);
+        compared += want.0.len();
+        assert_eq!(answer(true), want);
+    }
+    assert!(compared > 20, "{compared} pairs");
+}
+
 // ---------------------------------------------------------------------------------------
 // The C API: creating, updating, refusing.
 
