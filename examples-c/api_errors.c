@@ -119,8 +119,8 @@ int main(void) {
     expect(glcol_mesh_create(NULL, &md, &junk), GLCOL_STATUS_NULL_POINTER, "scene", "mesh_create(NULL scene)");
     expect(glcol_mesh_create(scene, NULL, &junk), GLCOL_STATUS_NULL_POINTER, "desc", "mesh_create(NULL desc)");
     expect(glcol_mesh_create(scene, &md, NULL), GLCOL_STATUS_NULL_POINTER, "out_id", "mesh_create(NULL out)");
-    bad.positions = NULL;
-    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_NULL_POINTER, "positions", "mesh_create(NULL positions)");
+    bad.positions = NULL; /* neither positions nor positions_f64 */
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "positions_f64", "mesh_create(no positions)");
     bad = md;
     bad.indices = NULL;
     expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_NULL_POINTER, "indices", "mesh_create(NULL indices)");
@@ -202,6 +202,66 @@ int main(void) {
     expect(glcol_mesh_set_transform(scene, 999, m), GLCOL_STATUS_UNKNOWN_MESH, "999", "set_transform(unknown)");
     expect(glcol_mesh_set_transform(NULL, a, m), GLCOL_STATUS_NULL_POINTER, "scene", "set_transform(NULL scene)");
     expect(glcol_mesh_set_transform(scene, a, NULL), GLCOL_STATUS_OK, NULL, "set_transform(NULL m)");
+
+    /* f64 meshes: both kinds of positions or neither, a double beyond the float range, a NaN,
+       a stride below 24, each update call for the other kind of mesh, binding to a GL buffer. */
+    static double da[12] = {0, 0, 0.5, 1, 0, 0.5, 1, 1, 0.5, 0, 1, 0.5};
+    GlcolMeshDesc md64;
+    glcol_mesh_desc_init(&md64);
+    md64.positions_f64 = da;
+    md64.vertex_count = 4;
+    md64.indices = tris;
+    md64.polygon_count = 2;
+    bad = md64;
+    bad.positions = pa;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "positions_f64", "mesh_create(both positions)");
+    double dbad[12];
+    memcpy(dbad, da, sizeof dbad);
+    dbad[4] = 1e39;
+    bad.positions = NULL;
+    bad.positions_f64 = dbad;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_NON_FINITE, "float range", "mesh_create(1e39)");
+    dbad[4] = NAN;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_NON_FINITE, "vertex 1", "mesh_create(f64 NaN)");
+    bad = md64;
+    bad.position_stride = 12;
+    expect(glcol_mesh_create(scene, &bad, &junk), GLCOL_STATUS_INVALID_ARGUMENT, "stride", "mesh_create(f64 stride 12)");
+    GlcolMeshId d64 = 0;
+    expect(glcol_mesh_create(scene, &md64, &d64), GLCOL_STATUS_OK, NULL, "f64 mesh");
+    expect(glcol_mesh_set_enabled(scene, d64, false), GLCOL_STATUS_OK, NULL, "disable the f64 mesh");
+    expect(glcol_mesh_update_positions(scene, d64, pa, 0, 4, 0), GLCOL_STATUS_INVALID_ARGUMENT, "_f64", "update(float call, f64 mesh)");
+    expect(glcol_mesh_update_positions_f64(scene, a, da, 0, 4, 0), GLCOL_STATUS_INVALID_ARGUMENT, "float mesh", "update_f64(float mesh)");
+    expect(glcol_mesh_update_positions_f64(scene, d64, NULL, 0, 4, 0), GLCOL_STATUS_NULL_POINTER, "positions", "update_f64(NULL)");
+    expect(glcol_mesh_update_positions_f64(scene, 999, da, 0, 4, 0), GLCOL_STATUS_UNKNOWN_MESH, "999", "update_f64(unknown)");
+    expect(glcol_mesh_update_positions_f64(scene, d64, da, 1, 4, 0), GLCOL_STATUS_INVALID_ARGUMENT, "past", "update_f64(past end)");
+    expect(glcol_mesh_update_positions_f64(scene, d64, dbad, 0, 4, 0), GLCOL_STATUS_NON_FINITE, "vertex 1", "update_f64(NaN)");
+    expect(glcol_mesh_bind_gl_buffer(scene, d64, 1, 0, 12), GLCOL_STATUS_UNSUPPORTED, "f64 mesh", "bind_gl_buffer(f64 mesh)");
+
+    /* Targets: each call rejected whole (a range past the end, a NaN, the wrong precision, an
+       unknown mesh, NULL, an overflowing end transform). */
+    expect(glcol_mesh_set_target_positions(scene, a, moved, 0, 4, 0), GLCOL_STATUS_NON_FINITE, "vertex 3", "target(NaN)");
+    expect(glcol_mesh_set_target_positions(scene, a, pa, 3, 2, 0), GLCOL_STATUS_INVALID_ARGUMENT, "past", "target(past end)");
+    expect(glcol_mesh_set_target_positions(scene, a, NULL, 0, 1, 0), GLCOL_STATUS_NULL_POINTER, "positions", "target(NULL)");
+    expect(glcol_mesh_set_target_positions(scene, 999, pa, 0, 1, 0), GLCOL_STATUS_UNKNOWN_MESH, "999", "target(unknown)");
+    expect(glcol_mesh_set_target_positions(scene, d64, pa, 0, 1, 0), GLCOL_STATUS_INVALID_ARGUMENT, "_f64", "target(float call, f64 mesh)");
+    expect(glcol_mesh_set_target_positions_f64(scene, a, da, 0, 1, 0), GLCOL_STATUS_INVALID_ARGUMENT, "float mesh", "target_f64(float mesh)");
+    dbad[4] = -1e39;
+    expect(glcol_mesh_set_target_positions_f64(scene, d64, dbad, 0, 4, 0), GLCOL_STATUS_NON_FINITE, "float range", "target_f64(1e39)");
+    expect(glcol_mesh_set_target_positions(scene, a, moved, 0, 3, 0), GLCOL_STATUS_OK, NULL, "target");
+    expect(glcol_mesh_set_target_positions_f64(scene, d64, da, 1, 2, 0), GLCOL_STATUS_OK, NULL, "target_f64");
+    double tm[12] = {1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0};
+    expect(glcol_mesh_set_target_transform(scene, a, NULL), GLCOL_STATUS_NULL_POINTER, "m", "target_transform(NULL)");
+    tm[0] = 1e39;
+    expect(glcol_mesh_set_target_transform(scene, a, tm), GLCOL_STATUS_NON_FINITE, "float range", "target_transform(overflow)");
+    tm[0] = INFINITY;
+    expect(glcol_mesh_set_target_transform(scene, a, tm), GLCOL_STATUS_NON_FINITE, "m[0]", "target_transform(inf)");
+    tm[0] = 1;
+    expect(glcol_mesh_set_target_transform(scene, 999, tm), GLCOL_STATUS_UNKNOWN_MESH, "999", "target_transform(unknown)");
+    expect(glcol_mesh_set_target_transform(scene, a, tm), GLCOL_STATUS_OK, NULL, "target_transform");
+    expect(glcol_mesh_clear_target(scene, 999), GLCOL_STATUS_UNKNOWN_MESH, "999", "clear_target(unknown)");
+    expect(glcol_mesh_clear_target(NULL, a), GLCOL_STATUS_NULL_POINTER, "scene", "clear_target(NULL)");
+    expect(glcol_mesh_clear_target(scene, a), GLCOL_STATUS_OK, NULL, "clear_target");
+    expect(glcol_mesh_desc_init_sized(&md64, 3), GLCOL_STATUS_INVALID_ARGUMENT, "sizeof(GlcolMeshDesc)", "desc_init_sized(3)");
 
     /* Enable, destroy, query, bind. */
     expect(glcol_mesh_set_enabled(scene, 0, false), GLCOL_STATUS_UNKNOWN_MESH, "0", "set_enabled(id 0)");

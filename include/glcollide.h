@@ -148,11 +148,13 @@ typedef struct GlcolSceneDesc {
 typedef struct GlcolMeshDesc {
   // `sizeof(GlcolMeshDesc)`.
   uint32_t struct_size;
-  // x, y, z per vertex (4-byte aligned).
+  // x, y, z per vertex (4-byte aligned). Exactly one of `positions` and `positions_f64`
+  // is non-NULL.
   const float *positions;
   // Number of vertices (> 0).
   size_t vertex_count;
-  // Bytes from one vertex to the next: 0 (= 12, packed) or a multiple of 4 that is >= 12.
+  // Bytes from one vertex to the next: 0 (= 12, packed) or a multiple of 4 that is >= 12;
+  // with `positions_f64`, 0 (= 24, packed) or a multiple of 8 that is >= 24.
   size_t position_stride;
   // `vertices_per_polygon` vertex indices per polygon (0-based, < vertex_count).
   const uint32_t *indices;
@@ -160,6 +162,10 @@ typedef struct GlcolMeshDesc {
   size_t polygon_count;
   // 3 (triangles) or 4 (quads: the union of triangles (v0,v1,v2) and (v0,v2,v3)).
   uint32_t vertices_per_polygon;
+  // x, y, z per vertex as doubles (8-byte aligned), instead of `positions`: the mesh is
+  // an f64 mesh, which keeps its positions as doubles and is queried exactly for them.
+  // Added in 0.3: a struct of 0.1's size (without it) makes float meshes.
+  const double *positions_f64;
 } GlcolMeshDesc;
 
 // Id of a mesh (never 0; unique in the process, so never reused and never valid in
@@ -328,17 +334,39 @@ void glcol_scene_destroy(struct GlcolScene *scene);
 // `scene` is NULL or a live scene; `out` is NULL or writable and aligned.
 enum GlcolStatus glcol_scene_backend(const struct GlcolScene *scene, enum GlcolBackend *out);
 
-// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
-// vertices_per_polygon 3). NULL is ignored.
+// The exported symbol that programs built against glcollide 0.1's header call: it fills
+// 0.1's `GlcolMeshDesc` (everything up to `positions_f64`, which it cannot know the caller
+// has) with the defaults and sets `struct_size` to 0.1's size. This header turns every
+// `glcol_mesh_desc_init(desc)` into `glcol_mesh_desc_init_sized(desc, sizeof *(desc))` (a
+// macro below), so a program compiled against it fills the whole struct; only a call
+// through a function pointer or `dlsym` reaches this symbol, and such callers (language
+// bindings) should call `glcol_mesh_desc_init_sized` instead. NULL is ignored.
 //
 // # Safety
-// `desc` is NULL or points to a writable, aligned `GlcolMeshDesc`.
+// `desc` is NULL or points to writable, aligned memory of at least 0.1's
+// `sizeof(GlcolMeshDesc)` bytes.
 void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 
+// Fills a `GlcolMeshDesc` of `size` bytes (`sizeof(GlcolMeshDesc)` of the header the
+// caller was compiled with: this one's, or 0.1's) with its defaults: struct_size = `size`,
+// every pointer NULL, every count 0, vertices_per_polygon 3; nothing past `size` bytes is
+// written. C and C++ call it through the `glcol_mesh_desc_init(desc)` macro. Statuses:
+// NULL_POINTER, INVALID_ARGUMENT (a size no version of the struct has, or a misaligned
+// `desc`; nothing written).
+//
+// # Safety
+// `desc` is NULL or points to writable memory of `size` bytes.
+enum GlcolStatus glcol_mesh_desc_init_sized(struct GlcolMeshDesc *desc, size_t size);
+
 // Adds a mesh: positions and indices are copied, the leaf boxes built. On success
-// `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
-// desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
-// alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
+// `*out_id` gets the new id; on failure nothing changes. Exactly one of `positions` and
+// `positions_f64` is non-NULL (both or neither: INVALID_ARGUMENT; a struct of 0.1's size,
+// without `positions_f64`, answers NULL_POINTER for NULL `positions` as 0.1 did); with
+// `positions_f64` the mesh is an f64 mesh (stride 0 = 24), which keeps its positions as
+// doubles and is queried exactly for them. Statuses: NULL_POINTER (scene, desc, out_id,
+// indices), INVALID_ARGUMENT (struct_size, zero counts, stride, alignment,
+// vertices_per_polygon, overflow, positions), NON_FINITE (a coordinate not finite, or a
+// double beyond the float range, 3.4e38), INDEX_OUT_OF_RANGE.
 // Counts above 2^32 - 1 vertices or 2^32 - 2 polygon corners (polygon_count times
 // vertices_per_polygon), or whose byte size overflows, are refused before the arrays are
 // read. Arrays shorter than the counts say, or dangling pointers, cannot be detected
@@ -347,8 +375,9 @@ void glcol_mesh_desc_init(struct GlcolMeshDesc *desc);
 // # Safety
 // `scene` is NULL or a live scene. `desc` is NULL or points to a readable `GlcolMeshDesc`
 // of `desc->struct_size` bytes, aligned as C aligns it (a misaligned `desc` is refused:
-// INVALID_ARGUMENT), whose `positions` is NULL or readable for `vertex_count` vertices
-// `position_stride` bytes apart and whose `indices` is NULL or readable for
+// INVALID_ARGUMENT), whose `positions` (or `positions_f64`) is NULL or readable for
+// `vertex_count` vertices `position_stride` bytes apart and whose `indices` is NULL or
+// readable for
 // `polygon_count * vertices_per_polygon` values. `out_id` is NULL or writable and aligned.
 enum GlcolStatus glcol_mesh_create(struct GlcolScene *scene,
                                    const struct GlcolMeshDesc *desc,
@@ -377,6 +406,83 @@ enum GlcolStatus glcol_mesh_update_positions(struct GlcolScene *scene,
                                              size_t first_vertex,
                                              size_t vertex_count,
                                              size_t position_stride);
+
+// `glcol_mesh_update_positions` for an f64 mesh: moves vertices `first_vertex ..
+// first_vertex + vertex_count` to `positions` (x, y, z doubles each, `position_stride`
+// bytes apart, 0 = packed = 24; 8-byte aligned) and refits the mesh's boxes. Rejected
+// whole on any error (the mesh keeps its previous positions): UNKNOWN_MESH, NULL_POINTER,
+// INVALID_ARGUMENT (a float mesh, zero count, range past the end, stride, alignment,
+// overflow), NON_FINITE (a coordinate not finite or beyond the float range, 3.4e38; also
+// world positions under the mesh's transform that could overflow the float range). Drops
+// the mesh's target. Makes no GL call.
+//
+// # Safety
+// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+// vertices `position_stride` bytes apart.
+enum GlcolStatus glcol_mesh_update_positions_f64(struct GlcolScene *scene,
+                                                 GlcolMeshId mesh,
+                                                 const double *positions,
+                                                 size_t first_vertex,
+                                                 size_t vertex_count,
+                                                 size_t position_stride);
+
+// The end of a continuous step for a float mesh: vertices `first_vertex .. first_vertex +
+// vertex_count` get the target positions `positions` (x, y, z floats each in the mesh's
+// own frame, `position_stride` bytes apart, 0 = packed), replacing any they had; the other
+// vertices keep theirs, or their start positions. The mesh's current state is the start
+// (t = 0); each vertex's world position moves on the straight line to its end world
+// position (t = 1), under the target transform if one was set, else the current one. A
+// target is not committed: no other query's answer changes, and `glcol_query_geometry`
+// stays valid. It lasts until `glcol_mesh_update_positions(_f64)`,
+// `glcol_mesh_set_transform` or `glcol_mesh_clear_target` on the mesh. Rejected whole,
+// nothing changed: NULL_POINTER, UNKNOWN_MESH, INVALID_ARGUMENT (an f64 mesh, zero count,
+// range past the end, stride, alignment, overflow), NON_FINITE (a coordinate not finite,
+// or end world positions that could overflow the float range).
+//
+// # Safety
+// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+// vertices `position_stride` bytes apart.
+enum GlcolStatus glcol_mesh_set_target_positions(struct GlcolScene *scene,
+                                                 GlcolMeshId mesh,
+                                                 const float *positions,
+                                                 size_t first_vertex,
+                                                 size_t vertex_count,
+                                                 size_t position_stride);
+
+// `glcol_mesh_set_target_positions` for an f64 mesh: the target positions are doubles
+// (`position_stride` 0 = 24, 8-byte aligned). INVALID_ARGUMENT for a float mesh; a
+// coordinate not finite or beyond the float range (3.4e38): NON_FINITE. Otherwise as
+// `glcol_mesh_set_target_positions`.
+//
+// # Safety
+// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+// vertices `position_stride` bytes apart.
+enum GlcolStatus glcol_mesh_set_target_positions_f64(struct GlcolScene *scene,
+                                                     GlcolMeshId mesh,
+                                                     const double *positions,
+                                                     size_t first_vertex,
+                                                     size_t vertex_count,
+                                                     size_t position_stride);
+
+// The transform `mesh` takes at the end of a continuous step (a row-major 3x4 matrix,
+// evaluated as `glcol_mesh_set_transform` says): an instrument that only moves needs
+// nothing else. Its target positions, if any, stay. Not committed, as
+// `glcol_mesh_set_target_positions`. Rejected, nothing changed: NULL_POINTER (scene, m),
+// UNKNOWN_MESH, NON_FINITE (an entry not finite, or end world positions that could
+// overflow the float range).
+//
+// # Safety
+// `scene` is NULL or a live scene; `m` is NULL or points at 12 readable doubles.
+enum GlcolStatus glcol_mesh_set_target_transform(struct GlcolScene *scene,
+                                                 GlcolMeshId mesh,
+                                                 const double *m);
+
+// Drops `mesh`'s target (its target positions and transform): it stands still in a
+// continuous step. Statuses: NULL_POINTER, UNKNOWN_MESH.
+//
+// # Safety
+// `scene` is NULL or a live scene.
+enum GlcolStatus glcol_mesh_clear_target(struct GlcolScene *scene, GlcolMeshId mesh);
 
 // Enables or disables a mesh. A disabled mesh costs nothing in a query and has no
 // contacts (as reference or as other).
@@ -561,9 +667,13 @@ enum GlcolStatus glcol_query_all(struct GlcolScene *scene,
 //
 // Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
 // last query failed, or when the meshes changed since it: any successful
-// `glcol_mesh_create`, `glcol_mesh_update_positions`, `glcol_mesh_set_enabled`,
-// `glcol_mesh_destroy`, `glcol_mesh_set_transform`, `glcol_mesh_set_filter`,
-// `glcol_mesh_set_self_collision` or `glcol_mesh_bind_gl_buffer` on the scene. A mesh of the answer bound to a
+// `glcol_mesh_create`, `glcol_mesh_update_positions`, `glcol_mesh_update_positions_f64`,
+// `glcol_mesh_set_enabled`, `glcol_mesh_destroy`, `glcol_mesh_set_transform`,
+// `glcol_mesh_set_filter`, `glcol_mesh_set_self_collision` or `glcol_mesh_bind_gl_buffer`
+// on the scene. A target is no change of the current state: after
+// `glcol_mesh_set_target_positions`, `glcol_mesh_set_target_positions_f64`,
+// `glcol_mesh_set_target_transform` or `glcol_mesh_clear_target` the geometry stays
+// available. A mesh of the answer bound to a
 // GL buffer (glcol_mesh_bind_gl_buffer) is taken at the positions its query read, even if
 // the host has written the buffer since: on GL_COMPUTE they are read back from the GPU
 // (a sync point; the scene's context must be current: GL_UNAVAILABLE otherwise, and
@@ -600,5 +710,8 @@ void glcol_obj_free(struct GlcolObjMesh *mesh);
 // header's size (the macro passes sizeof); glcollide 0.1 binaries call the exported
 // glcol_scene_desc_init, which fills 0.1's smaller struct (README "ABI and soname policy").
 #define glcol_scene_desc_init(desc) glcol_scene_desc_init_sized((desc), sizeof *(desc))
+// The same for GlcolMeshDesc, which grew positions_f64 in 0.3: the exported
+// glcol_mesh_desc_init fills 0.1's smaller struct.
+#define glcol_mesh_desc_init(desc) glcol_mesh_desc_init_sized((desc), sizeof *(desc))
 
 #endif /* GLCOLLIDE_H */

@@ -4,10 +4,11 @@
 //! viewing volume", answered by a backend (the CPU, the GL's selection mode, or GL compute
 //! dispatches).
 //!
-//! The Rust API is [`Scene`]: meshes by [`MeshId`] made from [`Positions`], moved every
-//! frame, queried against one reference mesh ([`Scene::query`], giving [`Contact`]s) or as a
-//! whole scene with self-collision ([`Scene::query_all`], giving [`Pair`]s), then, on
-//! demand, the [`ContactGeometry`] of the answer. [`Scene::new`] makes a CPU scene;
+//! The Rust API is [`Scene`]: meshes by [`MeshId`] made from [`Positions`] (floats, or
+//! doubles for an f64 mesh queried exactly for them), moved every frame, given a target
+//! (the end of a continuous step, [`Scene::set_target_positions`]), queried against one
+//! reference mesh ([`Scene::query`], giving [`Contact`]s) or as a whole scene with
+//! self-collision ([`Scene::query_all`], giving [`Pair`]s), then, on demand, the [`ContactGeometry`] of the answer. [`Scene::new`] makes a CPU scene;
 //! [`Scene::with_backend`] any backend, inside the caller's GL context. Failures are
 //! [`Error`]s with an [`ErrorKind`] and a message; [`obj`] reads meshes.
 //!

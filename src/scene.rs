@@ -173,7 +173,12 @@ impl Scene {
         self.plan.backend()
     }
 
-    /// Adds a mesh (`vertices_per_polygon` indices per polygon in `indices`).
+    /// Adds a mesh (`vertices_per_polygon` indices per polygon in `indices`). Float
+    /// positions ([`Positions::new`], [`Positions::from_points`]) make a float mesh; double
+    /// positions ([`Positions::new_f64`], [`Positions::from_points_f64`]) an f64 mesh, which
+    /// keeps them as doubles: every query answers exactly for those doubles (under its
+    /// transform, if any), and its updates and targets take doubles only. A coordinate
+    /// that is not finite, or whose magnitude exceeds the float range (3.4e38): NonFinite.
     pub fn create_mesh(
         &mut self,
         positions: Positions<'_>,
@@ -211,10 +216,13 @@ impl Scene {
         self.meshes.keys().copied()
     }
 
-    /// Moves vertices `first..first + positions.len()` and refits the mesh's boxes. A mesh
-    /// bound to a GL buffer takes only a full update (all its vertices), which unbinds it:
-    /// a partial one is refused (InvalidArgument), as the other vertices' CPU positions are
-    /// stale.
+    /// Moves vertices `first..first + positions.len()` and refits the mesh's boxes, in the
+    /// mesh's precision: float positions for a float mesh, doubles for an f64 mesh (the
+    /// other: InvalidArgument). A coordinate that is not finite, or a double beyond the
+    /// float range: NonFinite. A mesh bound to a GL buffer takes only a full update (all its
+    /// vertices), which unbinds it: a partial one is refused (InvalidArgument), as the
+    /// other vertices' CPU positions are stale. Drops the mesh's target. Rejected whole:
+    /// nothing changes on failure.
     pub fn update_positions(
         &mut self,
         id: MeshId,
@@ -234,6 +242,62 @@ impl Scene {
         self.mesh_mut(id)?.update_positions(first, positions)?;
         self.plan.mesh_updated(id);
         self.forget_query();
+        Ok(())
+    }
+
+    /// [`Scene::update_positions`] of an f64 mesh from packed double points.
+    pub fn update_positions_f64(
+        &mut self,
+        id: MeshId,
+        first: usize,
+        positions: &[[f64; 3]],
+    ) -> Result<()> {
+        self.update_positions(id, first, Positions::from_points_f64(positions))
+    }
+
+    /// Sets the end of a continuous step for vertices `first..first + positions.len()` of
+    /// mesh `id`: their target positions, in the mesh's own frame and precision (float
+    /// positions for a float mesh, doubles for an f64 mesh; the other: InvalidArgument),
+    /// replacing any they had. The other vertices keep their target positions, or their
+    /// start positions. A target is not committed: it changes no discrete query's answer
+    /// and does not invalidate [`Scene::contact_geometry`]; it lasts until
+    /// [`Scene::update_positions`], [`Scene::set_transform`] or [`Scene::clear_target`] on
+    /// that mesh. Rejected whole, nothing changed: UnknownMesh; InvalidArgument (a range
+    /// past the end, the wrong precision); NonFinite (a coordinate not finite or beyond the
+    /// float range, or end world positions that could leave it). See [`Mesh::has_target`],
+    /// [`Mesh::end_world_position`].
+    pub fn set_target_positions(
+        &mut self,
+        id: MeshId,
+        first: usize,
+        positions: Positions<'_>,
+    ) -> Result<()> {
+        self.mesh_mut(id)?.set_target_positions(first, positions)
+    }
+
+    /// [`Scene::set_target_positions`] of an f64 mesh from packed double points.
+    pub fn set_target_positions_f64(
+        &mut self,
+        id: MeshId,
+        first: usize,
+        positions: &[[f64; 3]],
+    ) -> Result<()> {
+        self.set_target_positions(id, first, Positions::from_points_f64(positions))
+    }
+
+    /// The transform mesh `id` takes at the end of a continuous step (row-major 3x4,
+    /// evaluated as [`Scene::set_transform`] says); its target positions, if any, stay. An
+    /// instrument that only moves needs nothing else. Not committed, as
+    /// [`Scene::set_target_positions`]. Rejected, nothing changed: UnknownMesh; NonFinite
+    /// (an entry not finite, or end world positions that could leave the float range).
+    pub fn set_target_transform(&mut self, id: MeshId, m: &[f64; 12]) -> Result<()> {
+        self.mesh_mut(id)?.set_target_transform(m)
+    }
+
+    /// Drops mesh `id`'s target (its target positions and transform): it stands still in
+    /// a continuous step. UnknownMesh for an id not in the scene.
+    pub fn clear_target(&mut self, id: MeshId) -> Result<()> {
+        self.mesh_mut(id)?.clear_target();
         Ok(())
     }
 
@@ -277,7 +341,8 @@ impl Scene {
     /// identity. Every query answers for the world positions. Costs a few operations per
     /// leaf box; no vertex is touched. NonFinite (nothing changes) for a non-finite entry or
     /// world positions that could leave the `f32` range; Unsupported for a mesh reading its
-    /// positions from a GL buffer.
+    /// positions from a GL buffer. Drops the mesh's target (see
+    /// [`Scene::set_target_positions`]) when it succeeds.
     pub fn set_transform(&mut self, id: MeshId, m: Option<&[f64; 12]>) -> Result<()> {
         let bound = self.plan.gl_bound(id);
         let mesh = self.mesh_mut(id)?;
@@ -305,6 +370,15 @@ impl Scene {
         stride: usize,
     ) -> Result<()> {
         let m = self.meshes.get(&id).ok_or_else(|| unknown(id))?;
+        if m.is_f64() {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} is an f64 mesh (made from double positions): it cannot read \
+                     float positions from a GL buffer"
+                ),
+            ));
+        }
         if m.place.is_some() {
             return Err(Error::new(
                 ErrorKind::Unsupported,

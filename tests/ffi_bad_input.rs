@@ -237,9 +237,21 @@ fn mesh_creation_rejects_bad_descriptions_and_changes_nothing() {
     f.expect("NULL desc", st, S::NullPointer, "desc");
     let st = unsafe { glcol_mesh_create(s, &good, null_mut()) };
     f.expect("NULL out_id", st, S::NullPointer, "out_id");
+    // Neither positions nor positions_f64 (0.3's struct): INVALID_ARGUMENT; 0.1's struct,
+    // which has no positions_f64, keeps 0.1's NULL_POINTER.
     create!(
         "NULL positions",
         GlcolMeshDesc {
+            positions: null(),
+            ..good
+        },
+        S::InvalidArgument,
+        "positions"
+    );
+    create!(
+        "NULL positions in 0.1's struct",
+        GlcolMeshDesc {
+            struct_size: std::mem::offset_of!(GlcolMeshDesc, positions_f64) as u32,
             positions: null(),
             ..good
         },
@@ -257,7 +269,7 @@ fn mesh_creation_rejects_bad_descriptions_and_changes_nothing() {
     );
     // struct_size.
     let size = std::mem::size_of::<GlcolMeshDesc>() as u32;
-    for bad in [0, 4, size - 8, size + 8, u32::MAX] {
+    for bad in [0, 4, size - 16, size - 4, size + 8, u32::MAX] {
         create!(
             &format!("struct_size {bad}"),
             GlcolMeshDesc {

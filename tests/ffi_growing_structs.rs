@@ -191,3 +191,126 @@ fn a_size_between_the_versions_is_refused_naming_both() {
         assert!(s.is_null());
     }
 }
+
+/// GlcolMeshDesc as glcollide 0.1's header declares it (no `positions_f64`).
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct MeshDescV01 {
+    struct_size: u32,
+    positions: *const f32,
+    vertex_count: usize,
+    position_stride: usize,
+    indices: *const u32,
+    polygon_count: usize,
+    vertices_per_polygon: u32,
+}
+
+/// A 0.1 `GlcolMeshDesc` is accepted as a float mesh and nothing past it is read (the bytes
+/// after it would be a non-NULL `positions_f64`: both set, refused, were they read); the
+/// `_init` functions write 0.1's struct (the exported symbol) or exactly the size given.
+#[test]
+fn a_v01_mesh_desc_is_accepted_and_the_inits_write_no_byte_past_it() {
+    let size = std::mem::size_of::<GlcolMeshDesc>();
+    let old = std::mem::size_of::<MeshDescV01>();
+    assert_eq!(old, std::mem::offset_of!(GlcolMeshDesc, positions_f64));
+    assert!(old < size);
+    #[repr(C)]
+    struct WithTail {
+        d: MeshDescV01,
+        tail: [usize; 2],
+    }
+    let sq = square(0., 0.);
+    let mut scene = FfiScene::new(GlcolBackend::Cpu, 0.0, 0);
+    let w = WithTail {
+        d: MeshDescV01 {
+            struct_size: old as u32,
+            positions: sq.pos.as_ptr().cast(),
+            vertex_count: sq.pos.len(),
+            position_stride: 0,
+            indices: sq.idx.as_ptr(),
+            polygon_count: sq.polygons(),
+            vertices_per_polygon: 3,
+        },
+        tail: [8, 8],
+    };
+    let mut a = 0;
+    ok(
+        unsafe { glcol_mesh_create(scene.0, (&w.d as *const MeshDescV01).cast(), &mut a) },
+        "0.1-sized mesh desc",
+    );
+    let b = scene.add(&wall(0.5));
+    assert!(scene.query(a).iter().all(|h| h.0 == b) && !scene.query(a).is_empty());
+    // The full size reads positions_f64: both set is refused.
+    let mut full = unsafe { std::mem::zeroed::<GlcolMeshDesc>() };
+    ok(
+        unsafe { glcol_mesh_desc_init_sized(&mut full, size) },
+        "init_sized",
+    );
+    let p64 = [[0.0f64; 3]; 4];
+    full.positions = sq.pos.as_ptr().cast();
+    full.positions_f64 = p64.as_ptr().cast();
+    full.vertex_count = 4;
+    full.indices = sq.idx.as_ptr();
+    full.polygon_count = 2;
+    let mut c = 0;
+    assert_eq!(
+        unsafe { glcol_mesh_create(scene.0, &full, &mut c) },
+        S::InvalidArgument
+    );
+    assert!(last_error().contains("positions_f64"), "{}", last_error());
+
+    // What the init functions write: bytes not 0xA5 after the call.
+    #[repr(C)]
+    struct Room {
+        d: GlcolMeshDesc,
+        tail: [u8; 64],
+    }
+    let written = |f: &dyn Fn(*mut GlcolMeshDesc)| -> (Vec<u8>, usize) {
+        let mut room: Room = unsafe { std::mem::zeroed() };
+        let p = (&mut room as *mut Room).cast::<u8>();
+        let total = std::mem::size_of::<Room>();
+        unsafe { std::ptr::write_bytes(p, 0xA5, total) };
+        f(&mut room.d);
+        let all = unsafe { std::slice::from_raw_parts(p, total) }.to_vec();
+        let end = all.iter().rposition(|&b| b != 0xA5).map_or(0, |i| i + 1);
+        (all, end)
+    };
+    let (b01, end) = written(&|d| unsafe { glcol_mesh_desc_init(d) });
+    assert!(
+        end <= old,
+        "glcol_mesh_desc_init wrote {end} bytes, 0.1's has {old}"
+    );
+    let d = unsafe { std::ptr::read_unaligned(b01.as_ptr().cast::<MeshDescV01>()) };
+    assert_eq!(d.struct_size as usize, old);
+    assert!(d.positions.is_null() && d.indices.is_null());
+    assert_eq!(d.vertices_per_polygon, 3);
+    for n in [old, size] {
+        let (b, end) = written(&|d| ok(unsafe { glcol_mesh_desc_init_sized(d, n) }, "sized"));
+        assert!(end <= n, "init_sized({n}) wrote {end} bytes");
+        assert_eq!(u32::from_ne_bytes(b[..4].try_into().unwrap()) as usize, n);
+        if n == size {
+            assert!(
+                b[old..size].iter().all(|&x| x == 0),
+                "positions_f64 is NULL"
+            );
+        }
+    }
+    for bad in [0, 4, old - 4, old + 4, size + 8, usize::MAX] {
+        let (_, end) = written(&|d| {
+            assert_eq!(
+                unsafe { glcol_mesh_desc_init_sized(d, bad) },
+                S::InvalidArgument
+            );
+        });
+        assert_eq!(end, 0, "init_sized({bad}) wrote");
+        let m = last_error();
+        assert!(
+            m.contains(&old.to_string()) && m.contains(&size.to_string()),
+            "{m}"
+        );
+    }
+    assert_eq!(
+        unsafe { glcol_mesh_desc_init_sized(null_mut(), size) },
+        S::NullPointer
+    );
+}

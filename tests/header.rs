@@ -68,7 +68,8 @@ fn every_macro_and_type_is_prefixed() {
             assert!(
                 name.starts_with("GLCOL_")
                     || name == "GLCOLLIDE_H"
-                    || name.starts_with("glcol_scene_desc_init("),
+                    || name.starts_with("glcol_scene_desc_init(")
+                    || name.starts_with("glcol_mesh_desc_init("),
                 "unprefixed macro {name}"
             );
         }

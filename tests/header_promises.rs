@@ -83,7 +83,9 @@ fn geometry(s: *mut GlcolScene) -> GlcolStatus {
 
 /// Every call the header lets change a scene (a non-const scene, not a query, not destroy)
 /// is named in `glcol_query_geometry`'s list of changes after which it refuses, and does make
-/// it refuse (INVALID_ARGUMENT) when it succeeds.
+/// it refuse (INVALID_ARGUMENT) when it succeeds; except the target calls, which are no
+/// change of the current state: the header names them as such, and the geometry stays
+/// available after each.
 #[test]
 fn geometry_refuses_after_every_change_the_header_lists() {
     let decls = declarations(&header());
@@ -96,6 +98,19 @@ fn geometry_refuses_after_every_change_the_header_lists() {
         })
         .map(|(name, _, _)| name.clone())
         .collect();
+    // The f64 calls need an f64 mesh made before the query: checked at the end.
+    let f64_calls = [
+        "glcol_mesh_update_positions_f64",
+        "glcol_mesh_set_target_positions_f64",
+    ];
+    for name in f64_calls {
+        assert!(changes.contains(name), "{name} declared");
+    }
+    let (targets, changes): (BTreeSet<String>, BTreeSet<String>) = changes
+        .into_iter()
+        .filter(|n| !f64_calls.contains(&n.as_str()))
+        .partition(|n| n.contains("_target"));
+    assert_eq!(targets.len(), 3, "{targets:?}");
     let doc = &decls
         .iter()
         .find(|(name, _, _)| name == "glcol_query_geometry")
@@ -120,7 +135,7 @@ fn geometry_refuses_after_every_change_the_header_lists() {
                 let p = [0.0f32, 0.0, 5.0, 1.0, 0.0, 5.0, 0.0, 1.0, 5.0];
                 let idx = [0u32, 1, 2];
                 let mut d = std::mem::zeroed::<GlcolMeshDesc>();
-                glcol_mesh_desc_init(&mut d);
+                glcol_mesh_desc_init_sized(&mut d, std::mem::size_of::<GlcolMeshDesc>());
                 d.positions = p.as_ptr();
                 d.vertex_count = 3;
                 d.indices = idx.as_ptr();
@@ -185,6 +200,79 @@ fn geometry_refuses_after_every_change_the_header_lists() {
         // SAFETY: a live scene of this test; its context is current.
         unsafe { glcol_scene_destroy(s) };
     }
+    // The target calls: named as no change, and the geometry stays available.
+    let keep = doc
+        .split("A target is no change of the current state")
+        .nth(1)
+        .expect("glcol_query_geometry's header comment says what a target is");
+    // SAFETY (every closure): as above.
+    let target_calls: Vec<(&str, Change)> = vec![
+        (
+            "glcol_mesh_set_target_positions",
+            Box::new(|s, b| unsafe {
+                let p = [0.2f32, 0.2, 4.0];
+                glcol_mesh_set_target_positions(s, b, p.as_ptr(), 0, 1, 0)
+            }),
+        ),
+        (
+            "glcol_mesh_set_target_transform",
+            Box::new(|s, b| unsafe {
+                let m = [1.0, 0.0, 0.0, 9.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+                glcol_mesh_set_target_transform(s, b, m.as_ptr())
+            }),
+        ),
+        (
+            "glcol_mesh_clear_target",
+            Box::new(|s, b| unsafe { glcol_mesh_clear_target(s, b) }),
+        ),
+    ];
+    let tested: BTreeSet<String> = target_calls.iter().map(|(n, _)| n.to_string()).collect();
+    assert_eq!(tested, targets);
+    for (name, call) in &target_calls {
+        assert!(keep.contains(name), "{name} is not named as no change");
+        let (s, _a, b) = crossing_scene();
+        assert_eq!(call(s, b), GlcolStatus::Ok, "{name}: {}", last_error());
+        assert_eq!(geometry(s), GlcolStatus::Ok, "after {name}");
+        // SAFETY: a live scene of this test; its context is current.
+        unsafe { glcol_scene_destroy(s) };
+    }
+    // The f64 calls on an f64 mesh of a scene whose geometry is available.
+    for name in f64_calls {
+        assert!(doc.contains(name), "{name} is not named");
+    }
+    assert!(keep.contains(f64_calls[1]) && !keep.contains(f64_calls[0]));
+    let (s, _a, _b) = crossing_scene();
+    let p = [0.0f64, 0.0, 7.0, 1.0, 0.0, 7.0, 0.0, 1.0, 7.0];
+    let idx = [0u32, 1, 2];
+    // SAFETY: a live scene; locals.
+    let c = unsafe {
+        let mut d = std::mem::zeroed::<GlcolMeshDesc>();
+        glcol_mesh_desc_init_sized(&mut d, std::mem::size_of::<GlcolMeshDesc>());
+        d.positions_f64 = p.as_ptr();
+        d.vertex_count = 3;
+        d.indices = idx.as_ptr();
+        d.polygon_count = 1;
+        let mut id = 0;
+        ok(glcol_mesh_create(s, &d, &mut id));
+        id
+    };
+    let (mut pairs, mut n) = (null(), 0);
+    // SAFETY: a live scene; locals.
+    ok(unsafe { glcol_query_all(s, &mut pairs, &mut n) });
+    assert_eq!(geometry(s), GlcolStatus::Ok);
+    // SAFETY: a live scene; locals.
+    ok(unsafe { glcol_mesh_set_target_positions_f64(s, c, p.as_ptr(), 0, 3, 0) });
+    assert_eq!(
+        geometry(s),
+        GlcolStatus::Ok,
+        "after glcol_mesh_set_target_positions_f64"
+    );
+    // And glcol_mesh_update_positions_f64 is a change.
+    // SAFETY: a live scene; locals.
+    ok(unsafe { glcol_mesh_update_positions_f64(s, c, p.as_ptr(), 0, 3, 0) });
+    assert_eq!(geometry(s), GlcolStatus::InvalidArgument);
+    // SAFETY: a live scene of this test; its context is current.
+    unsafe { glcol_scene_destroy(s) };
 }
 
 /// At epsilon > 0 a pair of `glcol_query_all` is reported when either polygon meets the

@@ -200,3 +200,72 @@ fn one_long_lived_scene_does_not_grow_with_mesh_churn() {
         "bytes held after 5000 meshes made and destroyed"
     );
 }
+
+/// Bytes a mesh holds per polygon (its structure, counted by the allocator at creation),
+/// and what a target adds: at most its positions in the mesh's precision (12 or 24 bytes a
+/// vertex given) and a few dozen bytes; nothing without one; all of it back at a clear.
+/// `cargo test --release --test memory -- --nocapture` prints the figures.
+#[test]
+fn a_target_costs_its_positions_and_no_target_costs_nothing() {
+    use glcollide::{Positions, Scene, SceneConfig};
+    let g = grid(200, 3, 0.0);
+    let polys = g.idx.len() / 3;
+    let nv = g.pos.len();
+    let d: Vec<[f64; 3]> = g.pos.iter().map(|p| p.map(f64::from)).collect();
+    let mut s = Scene::new(SceneConfig {
+        threads: 1,
+        ..SceneConfig::default()
+    })
+    .unwrap();
+    for f64_mesh in [false, true] {
+        let before = held();
+        let id = if f64_mesh {
+            s.create_mesh(Positions::from_points_f64(&d), &g.idx, 3)
+        } else {
+            s.create_mesh(Positions::from_points(&g.pos), &g.idx, 3)
+        }
+        .unwrap();
+        let mesh = held() - before;
+        let word = if f64_mesh { 24 } else { 12 };
+        let target = |s: &mut Scene, first: usize, n: usize| {
+            let at = held();
+            if f64_mesh {
+                s.set_target_positions_f64(id, first, &d[first..first + n])
+            } else {
+                s.set_target_positions(id, first, Positions::from_points(&g.pos[first..first + n]))
+            }
+            .unwrap();
+            held() - at
+        };
+        let tenth = target(&mut s, nv / 2, nv / 10);
+        s.clear_target(id).unwrap();
+        let full = target(&mut s, 0, nv);
+        let at = held();
+        s.clear_target(id).unwrap();
+        assert_eq!(held() - at, -full, "a clear gives every byte back");
+        let transform = {
+            let at = held();
+            s.set_target_transform(id, &[1., 0., 0., 1., 0., 1., 0., 0., 0., 0., 1., 0.])
+                .unwrap();
+            held() - at
+        };
+        s.clear_target(id).unwrap();
+        let kind = if f64_mesh { "f64" } else { "float" };
+        eprintln!(
+            "{kind} mesh, {polys} triangles, {nv} vertices: {:.1} bytes/polygon without a target \
+             (mesh structure; the CPU box cache adds 28 at the first query); a full target \
+             +{:.1} bytes/polygon, a tenth of the vertices +{:.1}, a target transform alone \
+             +{transform} bytes",
+            mesh as f64 / polys as f64,
+            full as f64 / polys as f64,
+            tenth as f64 / polys as f64,
+        );
+        assert!(
+            full as usize <= word * nv + 512,
+            "{full} bytes for {nv} vertices"
+        );
+        assert!(tenth as usize <= word * (nv / 10) + 512);
+        assert!(transform <= 256);
+        s.destroy_mesh(id).unwrap();
+    }
+}

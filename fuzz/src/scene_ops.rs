@@ -1,7 +1,9 @@
 //! Fuzz target (a): a sequence of C API calls decoded from the input: scenes, mesh creation
 //! (valid or not), updates (whole, ranges, bad ones), enabling, destroying, self-collision,
-//! filters, translations, queries, whole-scene queries, contact geometry, and malformed
-//! calls, on 1, 2 or one-per-core threads. A model of the scene predicts every status, and every query is checked:
+//! filters, translations, queries, whole-scene queries, contact geometry, f64 meshes
+//! (creation, updates with either call), targets (positions with either call, transforms,
+//! clears: none changes an answer or invalidates the geometry), and malformed calls, on 1,
+//! 2 or one-per-core threads. A model of the scene predicts every status, and every query is checked:
 //! sorted, each pair once, only live enabled meshes; with coordinates on the 1/4 grid the
 //! answer must equal the exact oracle's (epsilon = 0) or contain it with extras only within
 //! epsilon/2 (epsilon > 0). Any panic aborts (libFuzzer's panic hook), so even a panic the
@@ -44,6 +46,17 @@ impl Bytes<'_> {
             ((f32::from(b % 25) - 12.0) * 0.25, true)
         }
     }
+    /// For an f64 mesh: mostly a 1/4-grid value moved by -2..2 times 2^-40 (exact for the
+    /// oracle, invisible to floats); now and then any f64 bit pattern.
+    fn coord64(&mut self) -> f64 {
+        let b = self.u8();
+        if b >= 250 {
+            f64::from_le_bytes([0; 8].map(|_| self.u8()))
+        } else {
+            let tiny = (f64::from(self.u8() % 5) - 2.0) * 2f64.powi(-40);
+            (f64::from(b % 25) - 12.0) * 0.25 + tiny
+        }
+    }
     fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
@@ -52,11 +65,17 @@ impl Bytes<'_> {
 #[derive(Clone)]
 struct Model {
     id: u32,
-    pos: Vec<[f32; 3]>,
+    /// Positions as the mesh holds them (a float mesh's widened).
+    pos: Vec<[f64; 3]>,
+    /// Made from double positions.
+    f64: bool,
+    /// A target was given positions off the grid (huge ones may make a later target
+    /// transform's end positions leave the float range: NON_FINITE).
+    wild_target: bool,
     idx: Vec<u32>,
     k: usize,
     enabled: bool,
-    /// Every coordinate is on the 1/4 grid (the oracle's differences are then exact).
+    /// Every coordinate is on the grid ([`on_grid`]: the oracle's differences are then exact).
     grid: bool,
     /// Translation of `glcol_mesh_set_transform` (multiples of 1/4: world stays on the grid).
     t: [f32; 3],
@@ -70,7 +89,7 @@ impl Model {
     fn tris(&self, p: usize) -> Vec<[[f64; 3]; 3]> {
         let v = |j: usize| {
             let x = self.pos[self.idx[p * self.k + j] as usize];
-            [0, 1, 2].map(|a| f64::from(x[a]) + f64::from(self.t[a]))
+            [0, 1, 2].map(|a| x[a] + f64::from(self.t[a]))
         };
         if self.k == 3 {
             vec![[v(0), v(1), v(2)]]
@@ -92,10 +111,34 @@ impl Model {
     }
 }
 
+/// A multiple of 2^-40 within [-4, 4]: differences of such values (shifted by grid
+/// translations) are exact in f64.
+fn on_grid(v: f64) -> bool {
+    (v * 2f64.powi(40)).fract() == 0.0 && v.abs() <= 4.0
+}
+
+/// Finite and within the float range (what a mesh accepts).
+fn in_range(v: f64) -> bool {
+    v.abs() <= f64::from(f32::MAX)
+}
+
 fn status(s: GlcolStatus, want: GlcolStatus, what: &str) {
     assert_eq!(s, want, "{what}: {}", unsafe {
         std::ffi::CStr::from_ptr(glcol_last_error_message()).to_string_lossy()
     });
+}
+
+/// Double positions as the caller lays them out: packed, or 32 bytes apart with junk in
+/// between.
+fn layout64(pos: &[[f64; 3]], strided: bool, junk: f64) -> (Vec<f64>, usize) {
+    if strided {
+        (
+            pos.iter().flat_map(|p| [p[0], p[1], p[2], junk]).collect(),
+            32,
+        )
+    } else {
+        (pos.iter().flatten().copied().collect(), 0)
+    }
 }
 
 /// Positions as the caller lays them out: packed, or 16 bytes apart with junk in between.
@@ -345,22 +388,25 @@ pub fn run(data: &[u8]) {
                 (id, meshes.iter().position(|m| m.id == id))
             }
         };
-        match c.below(11) {
+        match c.below(12) {
             0 | 1 => {
                 // Create a mesh, valid or not.
                 let k = [3usize, 4, 3, 4, 3, 4, 5, 0][c.below(8)];
                 let nv = 1 + c.below(8);
                 let np = c.below(6);
-                let mut grid = true;
-                let pos: Vec<[f32; 3]> = (0..nv)
+                let doubles = c.below(3) == 0;
+                let pos: Vec<[f64; 3]> = (0..nv)
                     .map(|_| {
                         [0, 1, 2].map(|_| {
-                            let (v, g) = c.coord();
-                            grid &= g;
-                            v
+                            if doubles {
+                                c.coord64()
+                            } else {
+                                f64::from(c.coord().0)
+                            }
                         })
                     })
                     .collect();
+                let grid = pos.iter().flatten().all(|&v| on_grid(v));
                 let idx: Vec<u32> = (0..np * k.max(1))
                     .map(|_| {
                         let i = c.below(nv + 1);
@@ -372,12 +418,21 @@ pub fn run(data: &[u8]) {
                     })
                     .collect();
                 let strided = c.below(4) == 0;
-                let (buf, stride) = layout(&pos, strided, f32::NAN);
+                let p32: Vec<[f32; 3]> = pos.iter().map(|p| p.map(|x| x as f32)).collect();
+                let (buf, stride) = layout(&p32, strided, f32::NAN);
+                let (buf64, stride64) = layout64(&pos, strided, f64::NAN);
                 let mut md = unsafe { std::mem::zeroed::<GlcolMeshDesc>() };
-                unsafe { glcol_mesh_desc_init(&mut md) };
-                md.positions = buf.as_ptr();
+                unsafe {
+                    glcol_mesh_desc_init_sized(&mut md, std::mem::size_of::<GlcolMeshDesc>())
+                };
+                if doubles {
+                    md.positions_f64 = buf64.as_ptr();
+                    md.position_stride = stride64;
+                } else {
+                    md.positions = buf.as_ptr();
+                    md.position_stride = stride;
+                }
                 md.vertex_count = nv;
-                md.position_stride = stride;
                 md.indices = if idx.is_empty() {
                     [0u32].as_ptr()
                 } else {
@@ -385,13 +440,13 @@ pub fn run(data: &[u8]) {
                 };
                 md.polygon_count = np;
                 md.vertices_per_polygon = k as u32;
-                let finite = pos.iter().flatten().all(|v| v.is_finite());
-                let in_range = idx.iter().all(|&i| (i as usize) < nv);
+                let finite = pos.iter().flatten().all(|&v| in_range(v));
+                let indices_ok = idx.iter().all(|&i| (i as usize) < nv);
                 let want = if k != 3 && k != 4 || np == 0 {
                     GlcolStatus::InvalidArgument
                 } else if !finite {
                     GlcolStatus::NonFinite
-                } else if !in_range {
+                } else if !indices_ok {
                     GlcolStatus::IndexOutOfRange
                 } else {
                     GlcolStatus::Ok
@@ -404,6 +459,8 @@ pub fn run(data: &[u8]) {
                     meshes.push(Model {
                         id,
                         pos,
+                        f64: doubles,
+                        wild_target: false,
                         idx,
                         k,
                         enabled: true,
@@ -423,30 +480,49 @@ pub fn run(data: &[u8]) {
                 let n = i.map_or(4, |i| meshes[i].pos.len());
                 let first = c.below(n + 1);
                 let count = c.below(n + 2);
-                let mut grid = true;
-                let new: Vec<[f32; 3]> = (0..count.max(1))
+                // The call of the mesh's kind, mostly; the other one now and then.
+                let kind = i.is_some_and(|i| meshes[i].f64);
+                let doubles = if c.below(8) == 0 { !kind } else { kind };
+                let new: Vec<[f64; 3]> = (0..count.max(1))
                     .map(|_| {
                         [0, 1, 2].map(|_| {
-                            let (v, g) = c.coord();
-                            grid &= g;
-                            v
+                            if doubles {
+                                c.coord64()
+                            } else {
+                                f64::from(c.coord().0)
+                            }
                         })
                     })
                     .collect();
                 let strided = c.below(3) == 0;
-                let (buf, stride) = layout(&new, strided, f32::INFINITY);
-                let finite = new[..count].iter().flatten().all(|v| v.is_finite());
+                let n32: Vec<[f32; 3]> = new.iter().map(|p| p.map(|x| x as f32)).collect();
+                let (buf, stride) = layout(&n32, strided, f32::INFINITY);
+                let (buf64, stride64) = layout64(&new, strided, f64::INFINITY);
+                let finite = new[..count].iter().flatten().all(|&v| in_range(v));
                 let want = if i.is_none() {
                     GlcolStatus::UnknownMesh
-                } else if count == 0 || first + count > n {
+                } else if doubles != kind || count == 0 || first + count > n {
                     GlcolStatus::InvalidArgument
                 } else if !finite {
                     GlcolStatus::NonFinite
                 } else {
                     GlcolStatus::Ok
                 };
-                let s = unsafe {
-                    glcol_mesh_update_positions(scene, id, buf.as_ptr(), first, count, stride)
+                let s = if doubles {
+                    unsafe {
+                        glcol_mesh_update_positions_f64(
+                            scene,
+                            id,
+                            buf64.as_ptr(),
+                            first,
+                            count,
+                            stride64,
+                        )
+                    }
+                } else {
+                    unsafe {
+                        glcol_mesh_update_positions(scene, id, buf.as_ptr(), first, count, stride)
+                    }
                 };
                 // A placed mesh refuses positions whose world positions could leave the float
                 // range (decided conservatively from its box): NON_FINITE, nothing changed.
@@ -457,12 +533,8 @@ pub fn run(data: &[u8]) {
                 if let (GlcolStatus::Ok, Some(i)) = (s, i) {
                     let m = &mut meshes[i];
                     m.pos[first..first + count].copy_from_slice(&new[..count]);
-                    m.grid = m
-                        .pos
-                        .iter()
-                        .flatten()
-                        .all(|v| (v * 4.0).fract() == 0.0 && v.abs() <= 3.0);
-                    let _ = grid;
+                    m.grid = m.pos.iter().flatten().all(|&v| on_grid(v));
+                    m.wild_target = false;
                 }
             }
             3 => {
@@ -545,6 +617,7 @@ pub fn run(data: &[u8]) {
                         let s = unsafe { glcol_mesh_set_transform(scene, id, mp) };
                         if let (GlcolStatus::Ok, Some(i)) = (s, i) {
                             meshes[i].t = if identity { [0.0; 3] } else { t };
+                            meshes[i].wild_target = false;
                         }
                         // Huge local coordinates may leave the float range once moved:
                         // NON_FINITE, nothing changed (the model keeps its translation).
@@ -568,6 +641,103 @@ pub fn run(data: &[u8]) {
             }
             9 => {
                 let n = check_query_all(scene, &meshes, epsilon);
+                check_geometry(scene, n, epsilon);
+            }
+            11 => {
+                // Targets: positions (either call, any range, bad values), a transform, a
+                // clear. After a whole-scene query: the geometry stays valid whatever the
+                // call answers (a target is no change of the current state), and no later
+                // answer changes (the model ignores targets).
+                let n = check_query_all(scene, &meshes, epsilon);
+                let (id, i) = pick(&mut c, &meshes, &dead);
+                let known = i.is_some();
+                let wild = i.is_some_and(|i| {
+                    meshes[i].t != [0.0; 3] || !meshes[i].grid || meshes[i].wild_target
+                });
+                let mut wild_values = false;
+                let (s, want, what) = match c.below(4) {
+                    0 | 1 => {
+                        let n = i.map_or(4, |i| meshes[i].pos.len());
+                        let first = c.below(n + 1);
+                        let count = c.below(n + 2);
+                        let kind = i.is_some_and(|i| meshes[i].f64);
+                        let doubles = if c.below(8) == 0 { !kind } else { kind };
+                        let new: Vec<[f64; 3]> = (0..count.max(1))
+                            .map(|_| [0, 1, 2].map(|_| c.coord64()))
+                            .collect();
+                        let n32: Vec<[f32; 3]> = new.iter().map(|p| p.map(|x| x as f32)).collect();
+                        wild_values = !new[..count].iter().flatten().all(|&v| on_grid(v));
+                        let finite = if doubles {
+                            new[..count].iter().flatten().all(|&v| in_range(v))
+                        } else {
+                            n32[..count].iter().flatten().all(|v| v.is_finite())
+                        };
+                        let want = if !known {
+                            GlcolStatus::UnknownMesh
+                        } else if doubles != kind || count == 0 || first + count > n {
+                            GlcolStatus::InvalidArgument
+                        } else if !finite {
+                            GlcolStatus::NonFinite
+                        } else {
+                            GlcolStatus::Ok
+                        };
+                        let s = if doubles {
+                            let p = new.as_ptr().cast::<f64>();
+                            unsafe {
+                                glcol_mesh_set_target_positions_f64(scene, id, p, first, count, 0)
+                            }
+                        } else {
+                            let p = n32.as_ptr().cast::<f32>();
+                            unsafe {
+                                glcol_mesh_set_target_positions(scene, id, p, first, count, 0)
+                            }
+                        };
+                        (s, want, "set_target_positions")
+                    }
+                    2 => {
+                        let mut m = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+                        m[3] = (c.below(17) as f64 - 8.0) * 0.25;
+                        let bad = c.below(6) == 0;
+                        if bad {
+                            m[c.below(12)] = f64::NAN;
+                        }
+                        let want = if !known {
+                            GlcolStatus::UnknownMesh
+                        } else if bad {
+                            GlcolStatus::NonFinite
+                        } else {
+                            GlcolStatus::Ok
+                        };
+                        let s = unsafe { glcol_mesh_set_target_transform(scene, id, m.as_ptr()) };
+                        (s, want, "set_target_transform")
+                    }
+                    _ => {
+                        let s = unsafe { glcol_mesh_clear_target(scene, id) };
+                        let want = if known {
+                            GlcolStatus::Ok
+                        } else {
+                            GlcolStatus::UnknownMesh
+                        };
+                        (s, want, "clear_target")
+                    }
+                };
+                // Huge coordinates under a transform may leave the float range at the end:
+                // NON_FINITE (decided conservatively), nothing changed.
+                if !((wild || wild_values)
+                    && want == GlcolStatus::Ok
+                    && s == GlcolStatus::NonFinite)
+                {
+                    status(s, want, what);
+                }
+                if let Some(i) = i {
+                    match (s, what) {
+                        (GlcolStatus::Ok, "set_target_positions") => {
+                            meshes[i].wild_target |= wild_values
+                        }
+                        (GlcolStatus::Ok, "clear_target") => meshes[i].wild_target = false,
+                        _ => {}
+                    }
+                }
                 check_geometry(scene, n, epsilon);
             }
             _ => {

@@ -2,7 +2,7 @@
 //! leaf's contiguous run of vertices.
 
 use super::LeafBoxes;
-use crate::geom::Aabb;
+use crate::geom::{f32_down, f32_up, Aabb};
 
 impl LeafBoxes {
     /// Refits every leaf and the root to the slot positions. No allocation.
@@ -11,6 +11,28 @@ impl LeafBoxes {
         for (l, out) in self.boxes.iter_mut().enumerate() {
             let run = &slots[self.leaf_slots[l] as usize..self.leaf_slots[l + 1] as usize];
             *out = fit(run);
+            root.merge(out);
+        }
+        self.root = root;
+    }
+
+    /// Refits every leaf and the root to double slot positions (an f64 mesh's): each box
+    /// fitted in `f64`, then rounded outward to `f32`, so it holds every position.
+    pub fn refit_f64(&mut self, slots: &[[f64; 3]]) {
+        let mut root = Aabb::EMPTY;
+        for (l, out) in self.boxes.iter_mut().enumerate() {
+            let run = &slots[self.leaf_slots[l] as usize..self.leaf_slots[l + 1] as usize];
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for p in run {
+                for k in 0..3 {
+                    lo[k] = if p[k] < lo[k] { p[k] } else { lo[k] };
+                    hi[k] = if p[k] > hi[k] { p[k] } else { hi[k] };
+                }
+            }
+            *out = Aabb {
+                min: lo.map(f32_down),
+                max: hi.map(f32_up),
+            };
             root.merge(out);
         }
         self.root = root;

@@ -65,6 +65,43 @@ fn check_struct_size(got: u32, sizes: &[(usize, &str)], what: &str) -> Result<us
     )))
 }
 
+/// The `_init_sized` functions: `defaults` (with `struct_size` set to `size` by
+/// `set_size`) written as a struct of `size` bytes, which must be one of `sizes` (else
+/// INVALID_ARGUMENT naming them and `what`, nothing written). Nothing past `size` bytes is
+/// written.
+///
+/// # Safety
+/// `desc` is NULL or points to writable memory of `size` bytes; every size in `sizes` ends
+/// at a field boundary of `T`.
+pub(super) unsafe fn init_sized<T>(
+    desc: *mut T,
+    size: usize,
+    sizes: &[(usize, &str)],
+    mut defaults: T,
+    set_size: impl FnOnce(&mut T, u32),
+    what: &str,
+) -> FfiResult {
+    non_null(desc, "desc")?;
+    aligned(desc, "desc")?;
+    let Some(&(n, _)) = sizes.iter().find(|&&(n, _)| n == size) else {
+        let want = sizes
+            .iter()
+            .map(|&(n, note)| format!("{n} ({note})"))
+            .collect::<Vec<_>>()
+            .join(" or ");
+        return Err(invalid(format!(
+            "size is {size}, expected {want}: pass sizeof({what})"
+        )));
+    };
+    set_size(&mut defaults, n as u32);
+    // SAFETY: non-null and aligned (checked); the caller's contract: `size` == `n` writable
+    // bytes; `n` is one of `sizes`, a prefix of whole fields of `defaults` (a distinct local).
+    unsafe {
+        std::ptr::copy_nonoverlapping(std::ptr::addr_of!(defaults).cast::<u8>(), desc.cast(), n)
+    };
+    Ok(())
+}
+
 /// `GlcolSceneDesc` sizes accepted: this version's, and 0.1's (which ends before `threads`).
 pub(super) const SCENE_DESC_SIZES: [(usize, &str); 2] = [
     (
@@ -77,11 +114,18 @@ pub(super) const SCENE_DESC_SIZES: [(usize, &str); 2] = [
     ),
 ];
 
-/// `GlcolMeshDesc` sizes accepted (one version so far).
-pub(super) const MESH_DESC_SIZES: [(usize, &str); 1] = [(
-    std::mem::size_of::<GlcolMeshDesc>(),
-    "sizeof(GlcolMeshDesc) of this glcollide",
-)];
+/// `GlcolMeshDesc` sizes accepted: this version's, and 0.1's (which ends before
+/// `positions_f64`).
+pub(super) const MESH_DESC_SIZES: [(usize, &str); 2] = [
+    (
+        std::mem::size_of::<GlcolMeshDesc>(),
+        "sizeof(GlcolMeshDesc) of this glcollide",
+    ),
+    (
+        std::mem::offset_of!(GlcolMeshDesc, positions_f64),
+        "glcollide 0.1's, without positions_f64",
+    ),
+];
 
 /// The defaults `glcol_scene_desc_init` writes.
 pub(super) fn scene_desc_defaults() -> GlcolSceneDesc {
@@ -106,15 +150,39 @@ pub(super) fn mesh_desc_defaults() -> GlcolMeshDesc {
         indices: std::ptr::null(),
         polygon_count: 0,
         vertices_per_polygon: 3,
+        positions_f64: std::ptr::null(),
     }
 }
 
-/// `Positions` over the caller's array after every check that can be made.
+/// A coordinate of a caller's position array: `f32` (float meshes) or `f64` (f64 meshes).
+pub(super) trait Coordinate: Sized {
+    /// Doubles?
+    const F64: bool;
+    /// `Positions` of `count` vertices of three of these, `stride` bytes apart (0: packed).
+    fn over(bytes: &[u8], count: usize, stride: usize) -> crate::Result<Positions<'_>>;
+}
+
+impl Coordinate for f32 {
+    const F64: bool = false;
+    fn over(bytes: &[u8], count: usize, stride: usize) -> crate::Result<Positions<'_>> {
+        Positions::new(bytes, count, stride)
+    }
+}
+
+impl Coordinate for f64 {
+    const F64: bool = true;
+    fn over(bytes: &[u8], count: usize, stride: usize) -> crate::Result<Positions<'_>> {
+        Positions::new_f64(bytes, count, stride)
+    }
+}
+
+/// `Positions` over the caller's array of floats or doubles after every check that can be
+/// made (stride 0: packed, 12 or 24 bytes).
 ///
 /// # Safety
-/// `p` is NULL or readable for `count` vertices `stride` bytes apart (0 = 12) for `'a`.
-pub(super) unsafe fn positions<'a>(
-    p: *const f32,
+/// `p` is NULL or readable for `count` vertices `stride` bytes apart (0 = packed) for `'a`.
+pub(super) unsafe fn positions<'a, T: Coordinate>(
+    p: *const T,
     count: usize,
     stride: usize,
 ) -> Result<Positions<'a>, Fail> {
@@ -122,26 +190,28 @@ pub(super) unsafe fn positions<'a>(
     if count == 0 {
         return Err(invalid("vertex_count is 0"));
     }
-    if !(p as usize).is_multiple_of(std::mem::align_of::<f32>()) {
-        return Err(invalid("positions is not 4-byte aligned"));
-    }
-    let s = Positions::stride_or_packed(stride);
-    let len = Positions::byte_len(count, s)
+    aligned(p, "positions")?;
+    let vertex = 3 * std::mem::size_of::<T>();
+    let s = if stride == 0 { vertex } else { stride };
+    let len = (count - 1)
+        .checked_mul(s)
+        .and_then(|n| n.checked_add(vertex))
         .filter(|&n| n <= isize::MAX as usize)
         .ok_or_else(|| {
             invalid(format!(
                 "vertex_count {count} times position_stride {stride} overflows"
             ))
         })?;
-    // The stride itself (>= 12, multiple of 4) is checked by Positions::new.
-    let bytes = if s >= 12 {
+    // The stride itself (at least a vertex, a multiple of a coordinate) is checked by
+    // Positions.
+    let bytes = if s >= vertex {
         // SAFETY: non-null and aligned (checked), `len` <= isize::MAX (checked), and the
         // caller's contract: `count` vertices `s` apart, `len` bytes, are readable for 'a.
         unsafe { std::slice::from_raw_parts(p.cast::<u8>(), len) }
     } else {
         &[]
     };
-    Ok(Positions::new(bytes, count, stride)?)
+    Ok(T::over(bytes, count, stride)?)
 }
 
 /// Writes `v`'s first element (NULL when empty) and length to the out-parameters.

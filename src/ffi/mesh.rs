@@ -1,30 +1,79 @@
 //! A scene's meshes: creating, moving, placing, filtering, destroying them, and binding
 //! them to host GL buffers.
 
-use super::desc::{aligned, mesh_desc_defaults, positions, read_desc, MESH_DESC_SIZES};
-use super::guard::{guard, invalid, non_null};
+use super::desc::{
+    aligned, init_sized, mesh_desc_defaults, positions, read_desc, Coordinate, MESH_DESC_SIZES,
+};
+use super::guard::{guard, invalid, non_null, FfiResult};
 use super::scene::{scene_mut, GlcolScene};
 use super::types::*;
-use crate::Mesh;
+use crate::{Mesh, Positions, Scene};
 
-/// Fills every field of `desc` with its default (struct_size set, everything else 0/NULL,
-/// vertices_per_polygon 3). NULL is ignored.
+/// The exported symbol that programs built against glcollide 0.1's header call: it fills
+/// 0.1's `GlcolMeshDesc` (everything up to `positions_f64`, which it cannot know the caller
+/// has) with the defaults and sets `struct_size` to 0.1's size. This header turns every
+/// `glcol_mesh_desc_init(desc)` into `glcol_mesh_desc_init_sized(desc, sizeof *(desc))` (a
+/// macro below), so a program compiled against it fills the whole struct; only a call
+/// through a function pointer or `dlsym` reaches this symbol, and such callers (language
+/// bindings) should call `glcol_mesh_desc_init_sized` instead. NULL is ignored.
 ///
 /// # Safety
-/// `desc` is NULL or points to a writable, aligned `GlcolMeshDesc`.
+/// `desc` is NULL or points to writable, aligned memory of at least 0.1's
+/// `sizeof(GlcolMeshDesc)` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
-    if desc.is_null() {
-        return;
-    }
-    // SAFETY: non-null (checked); the caller's contract: writable and aligned.
-    unsafe { desc.write(mesh_desc_defaults()) };
+    // SAFETY: the caller's contract: NULL or writable for 0.1's size. A NULL (or
+    // misaligned) `desc` is ignored: nothing is written, and no message is set.
+    let _ = unsafe {
+        init_sized(
+            desc,
+            MESH_DESC_SIZES[1].0,
+            &MESH_DESC_SIZES,
+            mesh_desc_defaults(),
+            |d, n| d.struct_size = n,
+            "GlcolMeshDesc",
+        )
+    };
+}
+
+/// Fills a `GlcolMeshDesc` of `size` bytes (`sizeof(GlcolMeshDesc)` of the header the
+/// caller was compiled with: this one's, or 0.1's) with its defaults: struct_size = `size`,
+/// every pointer NULL, every count 0, vertices_per_polygon 3; nothing past `size` bytes is
+/// written. C and C++ call it through the `glcol_mesh_desc_init(desc)` macro. Statuses:
+/// NULL_POINTER, INVALID_ARGUMENT (a size no version of the struct has, or a misaligned
+/// `desc`; nothing written).
+///
+/// # Safety
+/// `desc` is NULL or points to writable memory of `size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_desc_init_sized(
+    desc: *mut GlcolMeshDesc,
+    size: usize,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or `size` writable bytes.
+        unsafe {
+            init_sized(
+                desc,
+                size,
+                &MESH_DESC_SIZES,
+                mesh_desc_defaults(),
+                |d, n| d.struct_size = n,
+                "GlcolMeshDesc",
+            )
+        }
+    })
 }
 
 /// Adds a mesh: positions and indices are copied, the leaf boxes built. On success
-/// `*out_id` gets the new id; on failure nothing changes. Statuses: NULL_POINTER (scene,
-/// desc, out_id, positions, indices), INVALID_ARGUMENT (struct_size, zero counts, stride,
-/// alignment, vertices_per_polygon, overflow), NON_FINITE, INDEX_OUT_OF_RANGE.
+/// `*out_id` gets the new id; on failure nothing changes. Exactly one of `positions` and
+/// `positions_f64` is non-NULL (both or neither: INVALID_ARGUMENT; a struct of 0.1's size,
+/// without `positions_f64`, answers NULL_POINTER for NULL `positions` as 0.1 did); with
+/// `positions_f64` the mesh is an f64 mesh (stride 0 = 24), which keeps its positions as
+/// doubles and is queried exactly for them. Statuses: NULL_POINTER (scene, desc, out_id,
+/// indices), INVALID_ARGUMENT (struct_size, zero counts, stride, alignment,
+/// vertices_per_polygon, overflow, positions), NON_FINITE (a coordinate not finite, or a
+/// double beyond the float range, 3.4e38), INDEX_OUT_OF_RANGE.
 /// Counts above 2^32 - 1 vertices or 2^32 - 2 polygon corners (polygon_count times
 /// vertices_per_polygon), or whose byte size overflows, are refused before the arrays are
 /// read. Arrays shorter than the counts say, or dangling pointers, cannot be detected
@@ -33,8 +82,9 @@ pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
 /// # Safety
 /// `scene` is NULL or a live scene. `desc` is NULL or points to a readable `GlcolMeshDesc`
 /// of `desc->struct_size` bytes, aligned as C aligns it (a misaligned `desc` is refused:
-/// INVALID_ARGUMENT), whose `positions` is NULL or readable for `vertex_count` vertices
-/// `position_stride` bytes apart and whose `indices` is NULL or readable for
+/// INVALID_ARGUMENT), whose `positions` (or `positions_f64`) is NULL or readable for
+/// `vertex_count` vertices `position_stride` bytes apart and whose `indices` is NULL or
+/// readable for
 /// `polygon_count * vertices_per_polygon` values. `out_id` is NULL or writable and aligned.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_mesh_create(
@@ -65,7 +115,16 @@ pub unsafe extern "C" fn glcol_mesh_create(
                 "vertices_per_polygon is {k}; it must be 3 or 4"
             )));
         }
-        non_null(d.positions, "positions")?;
+        let old = d.struct_size as usize == MESH_DESC_SIZES[1].0;
+        if old {
+            non_null(d.positions, "positions")?;
+        } else if d.positions.is_null() == d.positions_f64.is_null() {
+            return Err(invalid(format!(
+                "positions and positions_f64 are both {}: exactly one of them must be set \
+                 (float or double positions)",
+                if d.positions.is_null() { "NULL" } else { "set" }
+            )));
+        }
         non_null(d.indices, "indices")?;
         if d.polygon_count == 0 {
             return Err(invalid("polygon_count is 0"));
@@ -73,9 +132,15 @@ pub unsafe extern "C" fn glcol_mesh_create(
         // Counts the library cannot number are refused before any array is touched, by the
         // checks Mesh::new makes.
         Mesh::check_counts(d.vertex_count, d.polygon_count, k as usize)?;
-        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
-        // `position_stride` apart.
-        let pos = unsafe { positions(d.positions, d.vertex_count, d.position_stride) }?;
+        let pos = if d.positions.is_null() {
+            // SAFETY: the caller's contract: `positions_f64` holds `vertex_count` vertices
+            // `position_stride` apart.
+            unsafe { positions(d.positions_f64, d.vertex_count, d.position_stride) }?
+        } else {
+            // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
+            // `position_stride` apart.
+            unsafe { positions(d.positions, d.vertex_count, d.position_stride) }?
+        };
         if !(d.indices as usize).is_multiple_of(std::mem::align_of::<u32>()) {
             return Err(invalid("indices is not 4-byte aligned"));
         }
@@ -125,22 +190,235 @@ pub unsafe extern "C" fn glcol_mesh_update_positions(
     vertex_count: usize,
     position_stride: usize,
 ) -> GlcolStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_update_positions",
+            |s, pos| s.update_positions(mesh, first_vertex, pos),
+        )
+    }
+}
+
+/// What the calls that hand over positions for vertices `first..first + count` of `mesh`
+/// share: the checks of [`before_positions`], the array read as [`positions`] reads it,
+/// then `apply` with them.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `p` is NULL or readable for `count` vertices `stride`
+/// bytes apart.
+#[allow(clippy::too_many_arguments)]
+unsafe fn hand_over<T: Coordinate>(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    p: *const T,
+    first: usize,
+    count: usize,
+    stride: usize,
+    what: &str,
+    apply: impl FnOnce(&mut Scene, Positions<'_>) -> crate::Result<()>,
+) -> GlcolStatus {
     guard(|| {
         // SAFETY: the caller's contract: NULL (refused) or a live scene.
         let s = unsafe { scene_mut(scene) }?;
-        let n = s.scene.mesh(mesh)?.vertex_count();
-        non_null(positions, "positions")?;
-        // The range first, so that no count larger than the mesh reaches the array.
-        if vertex_count != 0 && first_vertex.checked_add(vertex_count).is_none_or(|e| e > n) {
-            return Err(invalid(format!(
-                "first_vertex {first_vertex} + vertex_count {vertex_count} runs past the mesh's {n} vertices"
-            )));
-        }
-        // SAFETY: the caller's contract: `positions` holds `vertex_count` vertices
-        // `position_stride` apart.
-        let pos = unsafe { self::positions(positions, vertex_count, position_stride) }?;
-        s.scene.update_positions(mesh, first_vertex, pos)?;
-        Ok(())
+        before_positions(s, mesh, p, first, count, T::F64, what)?;
+        // SAFETY: the caller's contract: `p` holds `count` vertices `stride` apart.
+        let pos = unsafe { positions(p, count, stride) }?;
+        Ok(apply(&mut s.scene, pos)?)
+    })
+}
+
+/// Before an array of positions for vertices `first..first + count` of `mesh` is read:
+/// the mesh exists, `p` is not NULL, the mesh's precision is `f64` (else INVALID_ARGUMENT
+/// naming the call `what`), and the range lies in the mesh (so that no count larger than
+/// the mesh reaches the array).
+fn before_positions<T>(
+    s: &GlcolScene,
+    mesh: GlcolMeshId,
+    p: *const T,
+    first: usize,
+    count: usize,
+    f64: bool,
+    what: &str,
+) -> FfiResult {
+    let m = s.scene.mesh(mesh)?;
+    non_null(p, "positions")?;
+    if m.is_f64() != f64 {
+        return Err(invalid(if f64 {
+            format!(
+                "{what}: mesh {mesh} is a float mesh: it takes float positions \
+                 (the call without _f64)"
+            )
+        } else {
+            format!(
+                "{what}: mesh {mesh} is an f64 mesh (made from positions_f64): it takes \
+                 double positions (the _f64 call)"
+            )
+        }));
+    }
+    let n = m.vertex_count();
+    if count != 0 && first.checked_add(count).is_none_or(|e| e > n) {
+        return Err(invalid(format!(
+            "first_vertex {first} + vertex_count {count} runs past the mesh's {n} vertices"
+        )));
+    }
+    Ok(())
+}
+
+/// `glcol_mesh_update_positions` for an f64 mesh: moves vertices `first_vertex ..
+/// first_vertex + vertex_count` to `positions` (x, y, z doubles each, `position_stride`
+/// bytes apart, 0 = packed = 24; 8-byte aligned) and refits the mesh's boxes. Rejected
+/// whole on any error (the mesh keeps its previous positions): UNKNOWN_MESH, NULL_POINTER,
+/// INVALID_ARGUMENT (a float mesh, zero count, range past the end, stride, alignment,
+/// overflow), NON_FINITE (a coordinate not finite or beyond the float range, 3.4e38; also
+/// world positions under the mesh's transform that could overflow the float range). Drops
+/// the mesh's target. Makes no GL call.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+/// vertices `position_stride` bytes apart.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_update_positions_f64(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    positions: *const f64,
+    first_vertex: usize,
+    vertex_count: usize,
+    position_stride: usize,
+) -> GlcolStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_update_positions_f64",
+            |s, pos| s.update_positions(mesh, first_vertex, pos),
+        )
+    }
+}
+
+/// The end of a continuous step for a float mesh: vertices `first_vertex .. first_vertex +
+/// vertex_count` get the target positions `positions` (x, y, z floats each in the mesh's
+/// own frame, `position_stride` bytes apart, 0 = packed), replacing any they had; the other
+/// vertices keep theirs, or their start positions. The mesh's current state is the start
+/// (t = 0); each vertex's world position moves on the straight line to its end world
+/// position (t = 1), under the target transform if one was set, else the current one. A
+/// target is not committed: no other query's answer changes, and `glcol_query_geometry`
+/// stays valid. It lasts until `glcol_mesh_update_positions(_f64)`,
+/// `glcol_mesh_set_transform` or `glcol_mesh_clear_target` on the mesh. Rejected whole,
+/// nothing changed: NULL_POINTER, UNKNOWN_MESH, INVALID_ARGUMENT (an f64 mesh, zero count,
+/// range past the end, stride, alignment, overflow), NON_FINITE (a coordinate not finite,
+/// or end world positions that could overflow the float range).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+/// vertices `position_stride` bytes apart.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_set_target_positions(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    positions: *const f32,
+    first_vertex: usize,
+    vertex_count: usize,
+    position_stride: usize,
+) -> GlcolStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_set_target_positions",
+            |s, pos| s.set_target_positions(mesh, first_vertex, pos),
+        )
+    }
+}
+
+/// `glcol_mesh_set_target_positions` for an f64 mesh: the target positions are doubles
+/// (`position_stride` 0 = 24, 8-byte aligned). INVALID_ARGUMENT for a float mesh; a
+/// coordinate not finite or beyond the float range (3.4e38): NON_FINITE. Otherwise as
+/// `glcol_mesh_set_target_positions`.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
+/// vertices `position_stride` bytes apart.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_set_target_positions_f64(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    positions: *const f64,
+    first_vertex: usize,
+    vertex_count: usize,
+    position_stride: usize,
+) -> GlcolStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        hand_over(
+            scene,
+            mesh,
+            positions,
+            first_vertex,
+            vertex_count,
+            position_stride,
+            "glcol_mesh_set_target_positions_f64",
+            |s, pos| s.set_target_positions(mesh, first_vertex, pos),
+        )
+    }
+}
+
+/// The transform `mesh` takes at the end of a continuous step (a row-major 3x4 matrix,
+/// evaluated as `glcol_mesh_set_transform` says): an instrument that only moves needs
+/// nothing else. Its target positions, if any, stay. Not committed, as
+/// `glcol_mesh_set_target_positions`. Rejected, nothing changed: NULL_POINTER (scene, m),
+/// UNKNOWN_MESH, NON_FINITE (an entry not finite, or end world positions that could
+/// overflow the float range).
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `m` is NULL or points at 12 readable doubles.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_set_target_transform(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+    m: *const f64,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        s.scene.mesh(mesh)?;
+        non_null(m, "m")?;
+        // SAFETY: the caller's contract: non-null `m` points at 12 readable doubles (read
+        // unaligned: a caller's `double[12]` is aligned, this costs nothing).
+        let m = unsafe { m.cast::<[f64; 12]>().read_unaligned() };
+        Ok(s.scene.set_target_transform(mesh, &m)?)
+    })
+}
+
+/// Drops `mesh`'s target (its target positions and transform): it stands still in a
+/// continuous step. Statuses: NULL_POINTER, UNKNOWN_MESH.
+///
+/// # Safety
+/// `scene` is NULL or a live scene.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_mesh_clear_target(
+    scene: *mut GlcolScene,
+    mesh: GlcolMeshId,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        Ok(s.scene.clear_target(mesh)?)
     })
 }
 

@@ -156,9 +156,13 @@ fn to_f32(x: f64) -> f32 {
 ///
 /// Statuses: NULL_POINTER; INVALID_ARGUMENT (with a message) before any query, when the
 /// last query failed, or when the meshes changed since it: any successful
-/// `glcol_mesh_create`, `glcol_mesh_update_positions`, `glcol_mesh_set_enabled`,
-/// `glcol_mesh_destroy`, `glcol_mesh_set_transform`, `glcol_mesh_set_filter`,
-/// `glcol_mesh_set_self_collision` or `glcol_mesh_bind_gl_buffer` on the scene. A mesh of the answer bound to a
+/// `glcol_mesh_create`, `glcol_mesh_update_positions`, `glcol_mesh_update_positions_f64`,
+/// `glcol_mesh_set_enabled`, `glcol_mesh_destroy`, `glcol_mesh_set_transform`,
+/// `glcol_mesh_set_filter`, `glcol_mesh_set_self_collision` or `glcol_mesh_bind_gl_buffer`
+/// on the scene. A target is no change of the current state: after
+/// `glcol_mesh_set_target_positions`, `glcol_mesh_set_target_positions_f64`,
+/// `glcol_mesh_set_target_transform` or `glcol_mesh_clear_target` the geometry stays
+/// available. A mesh of the answer bound to a
 /// GL buffer (glcol_mesh_bind_gl_buffer) is taken at the positions its query read, even if
 /// the host has written the buffer since: on GL_COMPUTE they are read back from the GPU
 /// (a sync point; the scene's context must be current: GL_UNAVAILABLE otherwise, and

@@ -1,6 +1,6 @@
 //! `GlcolScene`: making, asking about and destroying a scene.
 
-use super::desc::{aligned, read_desc, scene_desc_defaults, SCENE_DESC_SIZES};
+use super::desc::{aligned, init_sized, read_desc, scene_desc_defaults, SCENE_DESC_SIZES};
 use super::guard::{guard, guard_or, invalid, non_null, Fail};
 use super::types::*;
 use std::ffi::CStr;
@@ -84,15 +84,18 @@ const MAX_THREADS: u32 = 1024;
 /// `sizeof(GlcolSceneDesc)` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
-    if desc.is_null() {
-        return;
-    }
-    let n = SCENE_DESC_SIZES[1].0;
-    let mut d = scene_desc_defaults();
-    d.struct_size = n as u32;
-    // SAFETY: non-null (checked); the caller's contract: writable and aligned for 0.1's
-    // size `n`, a prefix of whole fields of `d` (a distinct local).
-    unsafe { std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n) };
+    // SAFETY: the caller's contract: NULL or writable for 0.1's size. A NULL (or
+    // misaligned) `desc` is ignored: nothing is written, and no message is set.
+    let _ = unsafe {
+        init_sized(
+            desc,
+            SCENE_DESC_SIZES[1].0,
+            &SCENE_DESC_SIZES,
+            scene_desc_defaults(),
+            |d, n| d.struct_size = n,
+            "GlcolSceneDesc",
+        )
+    };
 }
 
 /// Fills a `GlcolSceneDesc` of `size` bytes (`sizeof(GlcolSceneDesc)` of the header the
@@ -110,26 +113,17 @@ pub unsafe extern "C" fn glcol_scene_desc_init_sized(
     size: usize,
 ) -> GlcolStatus {
     guard(|| {
-        non_null(desc, "desc")?;
-        aligned(desc, "desc")?;
-        let Some(&(n, _)) = SCENE_DESC_SIZES.iter().find(|&&(n, _)| n == size) else {
-            let want = SCENE_DESC_SIZES
-                .iter()
-                .map(|&(n, note)| format!("{n} ({note})"))
-                .collect::<Vec<_>>()
-                .join(" or ");
-            return Err(invalid(format!(
-                "size is {size}, expected {want}: pass sizeof(GlcolSceneDesc)"
-            )));
-        };
-        let mut d = scene_desc_defaults();
-        d.struct_size = n as u32;
-        // SAFETY: non-null and aligned (checked); the caller's contract: `size` == `n`
-        // writable bytes; `n` is one of SCENE_DESC_SIZES, a prefix of whole fields of `d`.
+        // SAFETY: the caller's contract: NULL (refused) or `size` writable bytes.
         unsafe {
-            std::ptr::copy_nonoverlapping(std::ptr::addr_of!(d).cast::<u8>(), desc.cast(), n)
-        };
-        Ok(())
+            init_sized(
+                desc,
+                size,
+                &SCENE_DESC_SIZES,
+                scene_desc_defaults(),
+                |d, n| d.struct_size = n,
+                "GlcolSceneDesc",
+            )
+        }
     })
 }
 

@@ -114,11 +114,13 @@ pub struct GlcolSceneDesc {
 pub struct GlcolMeshDesc {
     /// `sizeof(GlcolMeshDesc)`.
     pub struct_size: u32,
-    /// x, y, z per vertex (4-byte aligned).
+    /// x, y, z per vertex (4-byte aligned). Exactly one of `positions` and `positions_f64`
+    /// is non-NULL.
     pub positions: *const f32,
     /// Number of vertices (> 0).
     pub vertex_count: usize,
-    /// Bytes from one vertex to the next: 0 (= 12, packed) or a multiple of 4 that is >= 12.
+    /// Bytes from one vertex to the next: 0 (= 12, packed) or a multiple of 4 that is >= 12;
+    /// with `positions_f64`, 0 (= 24, packed) or a multiple of 8 that is >= 24.
     pub position_stride: usize,
     /// `vertices_per_polygon` vertex indices per polygon (0-based, < vertex_count).
     pub indices: *const u32,
@@ -126,6 +128,10 @@ pub struct GlcolMeshDesc {
     pub polygon_count: usize,
     /// 3 (triangles) or 4 (quads: the union of triangles (v0,v1,v2) and (v0,v2,v3)).
     pub vertices_per_polygon: u32,
+    /// x, y, z per vertex as doubles (8-byte aligned), instead of `positions`: the mesh is
+    /// an f64 mesh, which keeps its positions as doubles and is queried exactly for them.
+    /// Added in 0.3: a struct of 0.1's size (without it) makes float meshes.
+    pub positions_f64: *const f64,
 }
 
 /// Id of a mesh (never 0; unique in the process, so never reused and never valid in

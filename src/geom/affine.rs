@@ -38,8 +38,15 @@ impl Affine {
     /// order of operations, no fused multiply-add).
     #[inline]
     pub fn apply(&self, p: &[f32; 3]) -> P3 {
+        self.apply_f64(&[f64::from(p[0]), f64::from(p[1]), f64::from(p[2])])
+    }
+
+    /// The world position of the local double point `p` (an f64 mesh's vertex): the same
+    /// operations as [`Affine::apply`], which widens a float point to this.
+    #[inline]
+    pub fn apply_f64(&self, p: &P3) -> P3 {
         let m = &self.0;
-        let (x, y, z) = (f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+        let (x, y, z) = (p[0], p[1], p[2]);
         let row = |r: usize| {
             let a = m[r * 4] * x;
             let b = m[r * 4 + 1] * y;

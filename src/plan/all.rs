@@ -137,10 +137,10 @@ impl Planner {
         };
         let t = Instant::now();
         let on_cpu = self.selector.backend() == Backend::Cpu;
-        // A GL backend holds the meshes in their own frames: pairs with a placed mesh go to
-        // the CPU engine.
+        // A GL backend holds float meshes in their own frames: pairs with a placed or f64
+        // mesh go to the CPU engine.
         let cpu_pair = |&(i, j): &(u32, u32)| {
-            on_cpu || list[i as usize].mesh.place.is_some() || list[j as usize].mesh.place.is_some()
+            on_cpu || list[i as usize].mesh.needs_cpu() || list[j as usize].mesh.needs_cpu()
         };
         let selfs: Vec<u32> = (0..list.len() as u32)
             .filter(|&i| list[i as usize].self_collision)

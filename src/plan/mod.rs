@@ -4,7 +4,8 @@
 //! made in this module and nowhere else:
 //! - **engine**: the CPU backend's queries run on the scene's own CPU engines (one per
 //!   worker thread); a GL backend answers the pairs of meshes it holds in their own frames
-//!   and leaves the pairs with a placed mesh (a transform) to the CPU engine;
+//!   and leaves the pairs with a placed mesh (a transform) or an f64 mesh to the CPU engine
+//!   ([`Mesh::needs_cpu`]);
 //! - **meshes read from host GL buffers**: a GL backend has no CPU positions for them, so
 //!   the broad phase pairs them with every mesh and any part of a query that would need the
 //!   CPU for them is refused (Unsupported, naming the meshes);
@@ -186,21 +187,21 @@ impl Planner {
     /// Takes out of a reference query's meshes `list` (the reference first) those the CPU
     /// engine answers, returned as their own query (the reference first): all of them on
     /// the CPU backend (the scene's workers share its leaf pairs out); on a GL backend,
-    /// which holds the meshes in their own frames, the placed meshes (all of them when the
-    /// reference is placed). Unsupported when such a query would need the CPU positions of
-    /// a mesh read from a GL buffer.
+    /// which holds float meshes in their own frames, the placed and f64 meshes (all of them
+    /// when the reference is one). Unsupported when such a query would need the CPU
+    /// positions of a mesh read from a GL buffer.
     fn cpu_share<'m>(&self, list: &mut Vec<(MeshId, &'m Mesh)>) -> Result<Vec<(MeshId, &'m Mesh)>> {
         if self.selector.is_cpu_engine() {
             return Ok(std::mem::take(list));
         }
         let mut on_cpu = Vec::new();
-        if self.selector.backend() != Backend::Cpu && list.iter().any(|(_, m)| m.place.is_some()) {
-            if list[0].1.place.is_some() {
+        if self.selector.backend() != Backend::Cpu && list.iter().any(|(_, m)| m.needs_cpu()) {
+            if list[0].1.needs_cpu() {
                 on_cpu = std::mem::take(list);
             } else {
                 on_cpu.push(list[0]);
-                on_cpu.extend(list.iter().skip(1).filter(|(_, m)| m.place.is_some()));
-                list.retain(|(_, m)| m.place.is_none());
+                on_cpu.extend(list.iter().skip(1).filter(|(_, m)| m.needs_cpu()));
+                list.retain(|(_, m)| !m.needs_cpu());
             }
             for &(id, _) in &on_cpu {
                 if self.selector.gl_bound(id) {
@@ -212,20 +213,20 @@ impl Planner {
     }
 }
 
-/// A query that needs the CPU for a placed mesh, with mesh `id` (of `meshes`) reading its
-/// positions from a GL buffer.
+/// A query that needs the CPU for a placed (or f64) mesh, with mesh `id` (of `meshes`)
+/// reading its positions from a GL buffer.
 fn gl_bound_and_placed(id: MeshId, meshes: &[(MeshId, &Mesh)]) -> Error {
     let placed: Vec<String> = meshes
         .iter()
-        .filter(|(_, m)| m.place.is_some())
+        .filter(|(_, m)| m.needs_cpu())
         .map(|(i, _)| i.to_string())
         .collect();
     Error::new(
         ErrorKind::Unsupported,
         format!(
             "mesh {id} reads its positions from a GL buffer and would be collided with \
-             transformed mesh(es) {}, which the GL backends leave to the CPU: give those \
-             meshes the identity, or disable one side",
+             transformed or f64 mesh(es) {}, which the GL backends leave to the CPU: give \
+             those meshes the identity, or disable one side",
             placed.join(", ")
         ),
     )

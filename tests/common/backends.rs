@@ -190,7 +190,7 @@ impl FfiScene {
     pub fn desc(m: &TestMesh) -> GlcolMeshDesc {
         unsafe {
             let mut d = std::mem::zeroed::<GlcolMeshDesc>();
-            glcol_mesh_desc_init(&mut d);
+            glcol_mesh_desc_init_sized(&mut d, std::mem::size_of::<GlcolMeshDesc>());
             d.positions = m.pos.as_ptr().cast();
             d.vertex_count = m.pos.len();
             d.indices = m.idx.as_ptr();

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod backends;
+pub mod exact;
 pub mod oracle;
 
 use glcollide::obj::ObjMesh;

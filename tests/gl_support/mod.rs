@@ -201,7 +201,7 @@ pub fn ok(st: GlcolStatus) {
 pub fn add_mesh(s: *mut GlcolScene, pos: &[[f32; 3]], idx: &[u32], k: usize) -> GlcolMeshId {
     unsafe {
         let mut d = std::mem::zeroed::<GlcolMeshDesc>();
-        glcol_mesh_desc_init(&mut d);
+        glcol_mesh_desc_init_sized(&mut d, std::mem::size_of::<GlcolMeshDesc>());
         d.positions = pos.as_ptr().cast();
         d.vertex_count = pos.len();
         d.indices = idx.as_ptr();

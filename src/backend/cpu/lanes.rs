@@ -45,9 +45,9 @@ impl Lanes {
     }
 
     /// Boxes `range` become those of `m`'s leaf-ordered polygons `range`
-    /// ([`Mesh::poly_box`], in one pass; one by one under a placement).
+    /// ([`Mesh::poly_box`], in one pass; one by one under a placement or for an f64 mesh).
     pub fn fit_polygons(&mut self, m: &Mesh, range: std::ops::Range<usize>) {
-        if m.place.is_some() {
+        if m.needs_cpu() {
             for p in range {
                 self.set(p, &m.poly_box(p));
             }

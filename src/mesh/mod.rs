@@ -5,6 +5,13 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::geom::affine::Affine;
 use crate::geom::{f32_down, f32_up, widen, Aabb, P3};
 
+mod positions;
+mod target;
+
+pub(crate) use positions::grow_f64;
+pub use positions::Positions;
+pub(crate) use target::Target;
+
 /// Most vertices a mesh can have, 2^32 - 1: vertex numbers are `u32`. The one limit of
 /// [`Mesh::check_counts`] (which the C API calls before any array is read),
 /// [`Positions::new`] and [`Mesh::new`], all through [`check_vertex_count`].
@@ -51,160 +58,18 @@ impl Mesh {
     }
 }
 
-/// Vertex positions as the caller lays them out: three `f32` per vertex (native endianness),
-/// `stride` bytes apart in a byte slice, or tightly packed points. Reading it is safe; the
-/// FFI builds the byte form from the caller's pointer.
-#[derive(Clone, Copy, Debug)]
-pub struct Positions<'a>(Src<'a>);
-
-#[derive(Clone, Copy, Debug)]
-enum Src<'a> {
-    Bytes {
-        bytes: &'a [u8],
-        stride: usize,
-        count: usize,
-    },
-    Points(&'a [[f32; 3]]),
-}
-
-impl<'a> Positions<'a> {
-    /// `count` vertices `stride` bytes apart (0 means tightly packed, 12). Fails when the
-    /// stride is below 12 or not a multiple of 4, `count` is more than a mesh can have
-    /// (2^32 - 1), or `bytes` is too short.
-    pub fn new(bytes: &'a [u8], count: usize, stride: usize) -> Result<Positions<'a>> {
-        let stride = Self::stride_or_packed(stride);
-        if stride < Self::PACKED_STRIDE || stride % 4 != 0 {
-            return Err(Error::invalid(format!(
-                "position_stride {stride} must be 0 or a multiple of 4 that is at least 12"
-            )));
-        }
-        check_vertex_count(count)?;
-        let need = Self::byte_len(count, stride).ok_or_else(|| {
-            Error::invalid(format!(
-                "vertex_count {count} times position_stride {stride} overflows"
-            ))
-        })?;
-        if bytes.len() < need {
-            return Err(Error::invalid(format!(
-                "{} bytes of positions, {need} needed",
-                bytes.len()
-            )));
-        }
-        Ok(Positions(Src::Bytes {
-            bytes,
-            stride,
-            count,
-        }))
-    }
-
-    /// From tightly packed points.
-    pub fn from_points(points: &'a [[f32; 3]]) -> Positions<'a> {
-        Positions(Src::Points(points))
-    }
-
-    /// Bytes of one tightly packed vertex (three `f32`): the stride a stride of 0 means.
-    pub(crate) const PACKED_STRIDE: usize = 12;
-
-    /// A stride as the APIs take it: 0 means tightly packed ([`Self::PACKED_STRIDE`]).
-    pub const fn stride_or_packed(stride: usize) -> usize {
-        if stride == 0 {
-            Self::PACKED_STRIDE
-        } else {
-            stride
-        }
-    }
-
-    /// Bytes a strided array of `count` vertices spans (`None` on overflow).
-    pub fn byte_len(count: usize, stride: usize) -> Option<usize> {
-        if count == 0 {
-            return Some(0);
-        }
-        (count - 1).checked_mul(stride)?.checked_add(12)
-    }
-
-    /// Number of vertices.
-    pub fn len(&self) -> usize {
-        match self.0 {
-            Src::Bytes { count, .. } => count,
-            Src::Points(p) => p.len(),
-        }
-    }
-
-    /// No vertices?
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Vertex `i`.
-    #[inline]
-    pub fn get(&self, i: usize) -> [f32; 3] {
-        match self.0 {
-            Src::Bytes { bytes, stride, .. } => read3(&bytes[i * stride..i * stride + 12]),
-            Src::Points(p) => p[i],
-        }
-    }
-
-    /// True when every coordinate is finite (one streaming pass).
-    pub fn all_finite(&self) -> bool {
-        let ok = |c: f32| (c.to_bits() & 0x7f80_0000) != 0x7f80_0000;
-        match self.0 {
-            Src::Bytes {
-                bytes,
-                stride,
-                count,
-            } => {
-                if stride == 12 {
-                    bytes[..count * 12].chunks_exact(4).fold(true, |a, b| {
-                        a & ok(f32::from_ne_bytes([b[0], b[1], b[2], b[3]]))
-                    })
-                } else {
-                    (0..count).fold(true, |a, i| {
-                        let p = read3(&bytes[i * stride..i * stride + 12]);
-                        a & ok(p[0]) & ok(p[1]) & ok(p[2])
-                    })
-                }
-            }
-            Src::Points(p) => p.as_flattened().iter().fold(true, |a, &c| a & ok(c)),
-        }
-    }
-
-    /// `dst[j] = vertex ids[j]` for every j.
-    pub fn gather(&self, ids: &[u32], dst: &mut [[f32; 3]]) {
-        match self.0 {
-            Src::Bytes { bytes, stride, .. } => {
-                for (d, &v) in dst.iter_mut().zip(ids) {
-                    let o = v as usize * stride;
-                    *d = read3(&bytes[o..o + 12]);
-                }
-            }
-            Src::Points(p) => {
-                for (d, &v) in dst.iter_mut().zip(ids) {
-                    *d = p[v as usize];
-                }
-            }
-        }
-    }
-
-    /// Index of the first vertex with a NaN or infinite coordinate.
-    pub fn first_non_finite(&self) -> Option<usize> {
-        (0..self.len()).find(|&i| !self.get(i).iter().all(|c| c.is_finite()))
-    }
-}
-
-#[inline]
-fn read3(b: &[u8]) -> [f32; 3] {
-    let f = |o: usize| f32::from_ne_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
-    [f(0), f(4), f(8)]
-}
-
 /// A mesh as the scene holds it.
 ///
 /// Vertices are stored leaf by leaf in "slots" (see [`crate::bvh`]): the polygons index
 /// slots, and a caller's vertex used by several leaves has one slot in each.
 #[derive(Clone, Debug)]
 pub struct Mesh {
-    /// Positions of the slots, leaf after leaf.
+    /// Positions of the slots, leaf after leaf (an f64 mesh: its doubles rounded to the
+    /// nearest float, which only the GL backends' uploads and the float accessors read).
     pub(crate) slots: Vec<[f32; 3]>,
+    /// An f64 mesh's positions of the slots, as given (empty for a float mesh): what every
+    /// query answers for.
+    pub(crate) slots64: Vec<[f64; 3]>,
     /// Slot -> the caller's vertex index.
     pub(crate) slot_vertex: Vec<u32>,
     /// The caller's vertex -> its slots: `vertex_slots[vertex_slot_start[v]..vertex_slot_start[v + 1]]`.
@@ -235,6 +100,8 @@ pub struct Mesh {
     /// leaf order), made at the first self-collision query that needs it (the topology
     /// never changes); `None` inside where no patch certificate can be tried.
     twins: std::sync::OnceLock<Option<Box<[u32]>>>,
+    /// The end of a continuous step, when one is set ([`Target`]); none costs one pointer.
+    pub(crate) target: Option<Box<Target>>,
 }
 
 /// A mesh's placement: its matrix and its leaf boxes carried into the world
@@ -316,10 +183,7 @@ impl Mesh {
         check_vertex_count(nv)?;
         check_polygon_count(n_polys, k)?;
         if let Some(v) = positions.first_non_finite() {
-            return Err(Error::new(
-                ErrorKind::NonFinite,
-                format!("positions: vertex {v} has a NaN or infinite coordinate"),
-            ));
+            return Err(positions.non_finite(v, &positions.get_f64(v)));
         }
         if let Some(i) = indices.iter().position(|&i| i as usize >= nv) {
             return Err(Error::new(
@@ -391,19 +255,32 @@ impl Mesh {
             fill[v as usize] += 1;
         }
         let slots: Vec<[f32; 3]> = slot_vertex.iter().map(|&v| pos[v as usize]).collect();
+        let slots64: Vec<[f64; 3]> = if positions.is_f64() {
+            slot_vertex
+                .iter()
+                .map(|&v| positions.get_f64(v as usize))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut lb = LeafBoxes {
             leaf_polys,
             leaf_slots,
             boxes: vec![Aabb::EMPTY; leaves],
             root: Aabb::EMPTY,
         };
-        lb.refit(&slots);
+        if positions.is_f64() {
+            lb.refit_f64(&slots64);
+        } else {
+            lb.refit(&slots);
+        }
         let mut poly_leaf = vec![0u32; order.len()];
         for (at, &p) in order.iter().enumerate() {
             poly_leaf[p as usize] = at as u32;
         }
         Ok(Mesh {
             slots,
+            slots64,
             slot_vertex,
             vertex_slot_start,
             vertex_slots,
@@ -420,6 +297,7 @@ impl Mesh {
             place: None,
             pose: 0,
             twins: std::sync::OnceLock::new(),
+            target: None,
         })
     }
 
@@ -468,8 +346,9 @@ impl Mesh {
         &self.leaves
     }
 
-    /// The world leaf boxes: the local ones, or with a placement boxes holding every world
-    /// position of their leaves (in `f32`, rounded outward).
+    /// The world leaf boxes: the local ones (an f64 mesh's rounded outward to `f32`), or
+    /// with a placement boxes holding every world position of their leaves (in `f32`,
+    /// rounded outward).
     #[inline]
     pub fn leaf_boxes(&self) -> &[Aabb] {
         match &self.place {
@@ -479,7 +358,7 @@ impl Mesh {
     }
 
     /// The world root box: every vertex of the mesh at its world position (rounded
-    /// outward to `f32` under a placement).
+    /// outward to `f32` under a placement or for an f64 mesh).
     #[inline]
     pub fn root(&self) -> Aabb {
         match &self.place {
@@ -496,7 +375,8 @@ impl Mesh {
     /// Places the mesh: world position `m * (x, y, z, 1)` of every vertex (None, or a
     /// matrix equal to the identity: the vertices as given). Costs a few operations per
     /// leaf box, never touches a vertex. Refused (nothing changes) when an entry is not
-    /// finite or a world coordinate could leave the `f32` range (NonFinite).
+    /// finite or a world coordinate could leave the `f32` range (NonFinite). Drops the
+    /// mesh's target (see [`Mesh::has_target`]) when it succeeds.
     pub fn set_transform(&mut self, m: Option<&[f64; 12]>) -> Result<()> {
         let m = match m {
             Some(m) if !Affine(*m).is_identity() => *m,
@@ -504,6 +384,7 @@ impl Mesh {
                 if self.place.take().is_some() {
                     self.pose += 1;
                 }
+                self.target = None;
                 return Ok(());
             }
         };
@@ -523,15 +404,34 @@ impl Mesh {
             None => self.place = Some(Box::new(Placement::of(a, &self.leaves))),
         }
         self.pose += 1;
+        self.target = None;
         Ok(())
+    }
+
+    /// An f64 mesh: made from double positions ([`Positions::is_f64`]), which it keeps and
+    /// every query answers for. Updates and targets take double positions only.
+    #[inline]
+    pub fn is_f64(&self) -> bool {
+        !self.slots64.is_empty()
+    }
+
+    /// Are the world positions other than the stored floats widened (a placement, or double
+    /// positions)? Such a mesh's polygon boxes are its world positions' boxes rounded
+    /// outward, and the GL backends, which hold float meshes in their own frames, leave its
+    /// pairs to the CPU engine.
+    #[inline]
+    pub(crate) fn needs_cpu(&self) -> bool {
+        self.place.is_some() || !self.slots64.is_empty()
     }
 
     /// The world position of slot `s`.
     #[inline]
     pub(crate) fn world(&self, s: usize) -> P3 {
-        match &self.place {
-            Some(p) => p.m.apply(&self.slots[s]),
-            None => widen(&self.slots[s]),
+        match (&self.place, self.slots64.is_empty()) {
+            (None, true) => widen(&self.slots[s]),
+            (Some(p), true) => p.m.apply(&self.slots[s]),
+            (None, false) => self.slots64[s],
+            (Some(p), false) => p.m.apply_f64(&self.slots64[s]),
         }
     }
 
@@ -542,7 +442,8 @@ impl Mesh {
             .then(|| self.world(self.vertex_slots[s] as usize))
     }
 
-    /// Slot positions, leaf after leaf (what the polygons index).
+    /// Slot positions, leaf after leaf (what the polygons index); an f64 mesh's rounded to
+    /// the nearest floats (its doubles: [`Mesh::vertex_position_f64`]).
     pub fn slot_positions(&self) -> &[[f32; 3]] {
         &self.slots
     }
@@ -573,36 +474,48 @@ impl Mesh {
         &self.poly_ids
     }
 
-    /// The caller's vertex `v` as stored (None for a vertex no polygon uses).
+    /// The caller's vertex `v` as stored (None for a vertex no polygon uses; an f64 mesh's
+    /// rounded to the nearest float: see [`Mesh::vertex_position_f64`]).
     pub fn vertex_position(&self, v: usize) -> Option<[f32; 3]> {
+        self.slot_of(v).map(|s| self.slots[s])
+    }
+
+    /// The caller's vertex `v` in the mesh's own frame, as doubles: an f64 mesh's as
+    /// given, a float mesh's widened (None for a vertex no polygon uses).
+    pub fn vertex_position_f64(&self, v: usize) -> Option<P3> {
+        self.slot_of(v).map(|s| self.local(s))
+    }
+
+    /// Slot `s` in the mesh's own frame, as doubles.
+    #[inline]
+    pub(crate) fn local(&self, s: usize) -> P3 {
+        if self.slots64.is_empty() {
+            widen(&self.slots[s])
+        } else {
+            self.slots64[s]
+        }
+    }
+
+    /// The first slot of the caller's vertex `v` (None for a vertex no polygon uses).
+    #[inline]
+    fn slot_of(&self, v: usize) -> Option<usize> {
         let s = *self.vertex_slot_start.get(v)? as usize;
-        (s < *self.vertex_slot_start.get(v + 1)? as usize)
-            .then(|| self.slots[self.vertex_slots[s] as usize])
+        (s < *self.vertex_slot_start.get(v + 1)? as usize).then(|| self.vertex_slots[s] as usize)
     }
 
     /// Replaces the caller's vertices `first..first + src.len()` and refits. Rejected whole
-    /// (nothing changes) when the range runs past the end or a coordinate is not finite.
+    /// (nothing changes) when the positions' precision is not the mesh's (float positions
+    /// for a float mesh, doubles for an f64 mesh: InvalidArgument), the range runs past the
+    /// end, or a coordinate is not finite or, for doubles, beyond the float range
+    /// (NonFinite). Drops the mesh's target when it succeeds.
     pub fn update_positions(&mut self, first: usize, src: Positions<'_>) -> Result<()> {
-        let n = self.vertex_count();
-        let end = first
-            .checked_add(src.len())
-            .filter(|&e| e <= n)
-            .ok_or_else(|| {
-                Error::invalid(format!(
-                    "first_vertex {first} + vertex_count {} runs past the mesh's {n} vertices",
-                    src.len()
-                ))
-            })?;
-        let non_finite = |v: usize| {
-            Error::new(
-                ErrorKind::NonFinite,
-                format!("positions: vertex {v} has a NaN or infinite coordinate"),
-            )
-        };
-        let full = first == 0 && end == n;
+        self.check_precision(&src, "update_positions")?;
+        let end = self.vertex_range(first, src.len())?;
+        let full = first == 0 && end == self.vertex_count();
         if !src.all_finite() {
             let at = src.first_non_finite().unwrap_or(0);
-            return Err(non_finite(if full { at } else { first + at }));
+            let v = if full { at } else { first + at };
+            return Err(src.non_finite(v, &src.get_f64(at)));
         }
         // Under a placement the new world positions must stay in range: decided before
         // anything changes from a box holding every vertex after the update (the new ones,
@@ -611,8 +524,7 @@ impl Mesh {
         // checked and undone if it fails.
         let mut undo = None;
         if let Some(p) = &self.place {
-            let mut b = Aabb::EMPTY;
-            (0..src.len()).for_each(|i| b.grow(&src.get(i)));
+            let mut b = src.bounds();
             if full {
                 Placement::check_range(&p.m, &b, "positions")?;
             } else {
@@ -620,14 +532,14 @@ impl Mesh {
                 if Placement::check_range(&p.m, &b, "positions").is_err() {
                     undo = Some(
                         (first..end)
-                            .map(|v| self.vertex_position(v))
+                            .map(|v| self.vertex_position_f64(v))
                             .collect::<Vec<_>>(),
                     );
                 }
             }
         }
         self.write_positions(first, &src);
-        self.leaves.refit(&self.slots);
+        self.refit_leaves();
         if let Some(p) = &self.place {
             if let Err(e) = Placement::check_range(&p.m, &self.leaves.root, "positions") {
                 // Only reached with `undo` set (a full update was checked exactly above).
@@ -636,7 +548,7 @@ impl Mesh {
                         self.set_vertex(first + i, old);
                     }
                 }
-                self.leaves.refit(&self.slots);
+                self.refit_leaves();
                 return Err(e);
             }
         }
@@ -644,23 +556,81 @@ impl Mesh {
             p.refit(&self.leaves);
         }
         self.generation += 1;
+        self.target = None;
         Ok(())
+    }
+
+    /// The end of the caller's vertex range `first..first + count`, or InvalidArgument when
+    /// it runs past the mesh's vertices.
+    pub(crate) fn vertex_range(&self, first: usize, count: usize) -> Result<usize> {
+        let n = self.vertex_count();
+        first.checked_add(count).filter(|&e| e <= n).ok_or_else(|| {
+            Error::invalid(format!(
+                "first_vertex {first} + vertex_count {count} runs past the mesh's {n} vertices"
+            ))
+        })
+    }
+
+    /// InvalidArgument unless `src` has the mesh's precision (`what`: the call).
+    pub(crate) fn check_precision(&self, src: &Positions<'_>, what: &str) -> Result<()> {
+        match (self.is_f64(), src.is_f64()) {
+            (true, false) => Err(Error::invalid(format!(
+                "{what}: the mesh is an f64 mesh (made from double positions): it takes \
+                 double positions only (the _f64 call)"
+            ))),
+            (false, true) => Err(Error::invalid(format!(
+                "{what}: the mesh is a float mesh: it takes float positions only (not the \
+                 _f64 call)"
+            ))),
+            _ => Ok(()),
+        }
     }
 
     /// Copies `src` to the caller's vertices `first..` (checked by the caller).
     fn write_positions(&mut self, first: usize, src: &Positions<'_>) {
-        if first == 0 && src.len() == self.vertex_count() {
+        let full = first == 0 && src.len() == self.vertex_count();
+        if self.is_f64() && full {
+            // Slot by slot, as the float gather.
+            for ((d, f), &v) in self
+                .slots64
+                .iter_mut()
+                .zip(&mut self.slots)
+                .zip(&self.slot_vertex)
+            {
+                *d = src.get_f64(v as usize);
+                *f = d.map(|x| x as f32);
+            }
+        } else if self.is_f64() {
+            for i in 0..src.len() {
+                self.set_vertex(first + i, src.get_f64(i));
+            }
+        } else if full {
             src.gather(&self.slot_vertex, &mut self.slots);
         } else {
             for i in 0..src.len() {
-                self.set_vertex(first + i, src.get(i));
+                self.set_vertex_f32(first + i, src.get(i));
             }
         }
     }
 
-    /// Every slot of the caller's vertex `v` becomes `p`.
+    /// Every slot of the caller's vertex `v` becomes `p` (rounded to floats for a float
+    /// mesh, whose positions are then floats already).
+    fn set_vertex(&mut self, v: usize, p: P3) {
+        if self.slots64.is_empty() {
+            self.set_vertex_f32(v, p.map(|x| x as f32));
+            return;
+        }
+        for &s in &self.vertex_slots
+            [self.vertex_slot_start[v] as usize..self.vertex_slot_start[v + 1] as usize]
+        {
+            self.slots64[s as usize] = p;
+            self.slots[s as usize] = p.map(|x| x as f32);
+        }
+    }
+
+    /// Every slot of the caller's vertex `v` becomes `p` (a float mesh).
     #[inline]
-    fn set_vertex(&mut self, v: usize, p: [f32; 3]) {
+    fn set_vertex_f32(&mut self, v: usize, p: [f32; 3]) {
         for &s in &self.vertex_slots
             [self.vertex_slot_start[v] as usize..self.vertex_slot_start[v + 1] as usize]
         {
@@ -668,9 +638,19 @@ impl Mesh {
         }
     }
 
+    /// Refits the local leaf boxes to the positions (doubles rounded outward for an f64
+    /// mesh).
+    fn refit_leaves(&mut self) {
+        if self.slots64.is_empty() {
+            self.leaves.refit(&self.slots);
+        } else {
+            self.leaves.refit_f64(&self.slots64);
+        }
+    }
+
     /// Refits the leaf boxes to the current positions (what an update does after copying).
     pub fn refit(&mut self) {
-        self.leaves.refit(&self.slots);
+        self.refit_leaves();
         if let Some(p) = &mut self.place {
             p.refit(&self.leaves);
         }
@@ -682,21 +662,21 @@ impl Mesh {
         &self.polys[p * self.k..(p + 1) * self.k]
     }
 
-    /// World box of leaf-ordered polygon `p` (under a placement: its world positions'
-    /// box rounded outward to `f32`).
+    /// World box of leaf-ordered polygon `p` (under a placement or for an f64 mesh: its
+    /// world positions' box rounded outward to `f32`).
     #[inline]
     pub fn poly_box(&self, p: usize) -> Aabb {
         let mut b = Aabb::EMPTY;
-        match &self.place {
-            None => {
+        match self.needs_cpu() {
+            false => {
                 for &v in self.poly(p) {
                     b.grow(&self.slots[v as usize]);
                 }
             }
-            Some(pl) => {
+            true => {
                 let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
                 for &v in self.poly(p) {
-                    let w = pl.m.apply(&self.slots[v as usize]);
+                    let w = self.world(v as usize);
                     for ((l, h), x) in lo.iter_mut().zip(&mut hi).zip(w) {
                         *l = l.min(x);
                         *h = h.max(x);
@@ -739,22 +719,26 @@ impl Mesh {
         let [first, second] = out;
         // The placement looked at once per polygon, not per vertex (the contact geometry
         // reads two polygons a pair through here).
-        match &self.place {
-            None => self.corners_into(p, widen, first, second),
-            Some(pl) => self.corners_into(p, |s| pl.m.apply(s), first, second),
+        match (&self.place, self.slots64.is_empty()) {
+            (None, true) => self.corners_into(p, |s| widen(&self.slots[s]), first, second),
+            (Some(pl), true) => self.corners_into(p, |s| pl.m.apply(&self.slots[s]), first, second),
+            (None, false) => self.corners_into(p, |s| self.slots64[s], first, second),
+            (Some(pl), false) => {
+                self.corners_into(p, |s| pl.m.apply_f64(&self.slots64[s]), first, second)
+            }
         }
     }
 
-    /// [`Mesh::triangles_into`] with `world` making a slot's position.
+    /// [`Mesh::triangles_into`] with `world` making slot `s`'s world position.
     #[inline(always)]
     fn corners_into(
         &self,
         p: usize,
-        world: impl Fn(&[f32; 3]) -> P3,
+        world: impl Fn(usize) -> P3,
         first: &mut [P3; 3],
         second: &mut [P3; 3],
     ) -> usize {
-        let w = |v: u32| world(&self.slots[v as usize]);
+        let w = |v: u32| world(v as usize);
         if self.k == 4 {
             let v: &[u32; 4] = self.polys[p * 4..p * 4 + 4]
                 .try_into()
