@@ -399,7 +399,7 @@ mod tests {
     }
 
     /// Collinear points on the x axis placed by a random rotation (as
-    /// `glcol_mesh_set_transform` places them: no fused multiply-add) are a sliver whose
+    /// a transform ([`crate::Scene::set_transform`]) places them: no fused multiply-add) are a sliver whose
     /// `f64` normal may be all rounding (contact_check's "quads degenerate vs quads, placed"
     /// pair 437: the prism on it left the triangle's corners a distance 0.6 outside, and
     /// `far_from` dropped a quad crossing it). Every volume holds its triangle's corners
