@@ -398,9 +398,9 @@ mod tests {
         assert!(!Cell::of_triangle(&rot, h).meets_triangle(&b));
     }
 
-    /// Collinear points on the x axis placed by a random rotation (as
-    /// a transform ([`crate::Scene::set_transform`]) places them: no fused multiply-add) are a sliver whose
-    /// `f64` normal may be all rounding (contact_check's "quads degenerate vs quads, placed"
+    /// Collinear points on the x axis placed by a random rotation (as a transform,
+    /// [`crate::Scene::set_transform`], places them: no fused multiply-add) are a sliver
+    /// whose `f64` normal may be all rounding (contact_check's "quads degenerate vs quads, placed"
     /// pair 437: the prism on it left the triangle's corners a distance 0.6 outside, and
     /// `far_from` dropped a quad crossing it). Every volume holds its triangle's corners
     /// (and `far_from` never rejects them), and a sliver's box stays within `h` of it.
