@@ -272,7 +272,26 @@ impl Scene {
         first: usize,
         positions: Positions<'_>,
     ) -> Result<()> {
+        self.refuse_target_of_bound(id)?;
         self.mesh_mut(id)?.set_target_positions(first, positions)
+    }
+
+    /// Unsupported for a mesh that reads its positions from a GL buffer: the start of its
+    /// step lives in the host's buffer (on the GPU, or read back at each query), so the
+    /// vertices a target leaves where they are have no start the CPU holds.
+    fn refuse_target_of_bound(&self, id: MeshId) -> Result<()> {
+        self.mesh(id)?;
+        if self.plan.gl_bound(id) {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} reads its positions from a GL buffer: it cannot be given a \
+                     target (give it its positions with an update of all its vertices first, \
+                     which unbinds it)"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// [`Scene::set_target_positions`] of an f64 mesh from packed double points.
@@ -291,6 +310,7 @@ impl Scene {
     /// [`Scene::set_target_positions`]. Rejected, nothing changed: UnknownMesh; NonFinite
     /// (an entry not finite, or end world positions that could leave the float range).
     pub fn set_target_transform(&mut self, id: MeshId, m: &[f64; 12]) -> Result<()> {
+        self.refuse_target_of_bound(id)?;
         self.mesh_mut(id)?.set_target_transform(m)
     }
 
@@ -376,6 +396,15 @@ impl Scene {
                 format!(
                     "mesh {id} is an f64 mesh (made from double positions): it cannot read \
                      float positions from a GL buffer"
+                ),
+            ));
+        }
+        if m.has_target() {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} has a target (the end of a continuous step): it cannot read its \
+                     positions from a GL buffer (clear its target first)"
                 ),
             ));
         }

@@ -752,3 +752,52 @@ fn a_shared_context_of_another_kind() {
         unsafe { glcol_scene_destroy(s) };
     }
 }
+
+/// Targets and GL buffers (issue 25): a mesh bound to a GL buffer has the start of its step
+/// in the host's buffer, so it takes no target (UNSUPPORTED, nothing changed), and a mesh with
+/// a target cannot be bound until its target is cleared (AUTO on llvmpipe: a CPU scene that
+/// reads bound buffers back at each query; GL_COMPUTE keeps them on the GPU).
+#[test]
+fn targets_and_bound_buffers_exclude_each_other() {
+    let home = Ctx::new(Profile::Core);
+    let g = home.glow();
+    let (a, b) = sheets(0.0);
+    let s = scene(GlcolBackend::Auto, 0.0, 0);
+    let b_id = add_mesh(s, &b.pos, &b.idx, 3);
+    let a_id = add_mesh(s, &a.pos, &a.idx, 3);
+    let shift: [f64; 12] = [1.0, 0.0, 0.0, 0.25, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    // SAFETY: a live scene; its context is current; `shift` is 12 doubles.
+    ok(unsafe { glcol_mesh_set_target_transform(s, a_id, shift.as_ptr()) });
+    // A mesh with a target is not bound.
+    let host = host_strided(&g, &b.pos, 0, 12);
+    // SAFETY: as above.
+    ok(unsafe { glcol_mesh_set_target_transform(s, b_id, shift.as_ptr()) });
+    // SAFETY: as above.
+    let st = unsafe { glcol_mesh_bind_gl_buffer(s, b_id, host.0.get(), 0, 0) };
+    assert_eq!(st, GlcolStatus::Unsupported, "{}", last_error());
+    assert!(
+        last_error().contains("clear its target"),
+        "{}",
+        last_error()
+    );
+    // SAFETY: as above.
+    ok(unsafe { glcol_mesh_clear_target(s, b_id) });
+    // SAFETY: as above.
+    ok(unsafe { glcol_mesh_bind_gl_buffer(s, b_id, host.0.get(), 0, 0) });
+    // A bound mesh takes no target.
+    // SAFETY: as above.
+    let st = unsafe { glcol_mesh_set_target_transform(s, b_id, shift.as_ptr()) };
+    assert_eq!(st, GlcolStatus::Unsupported, "{}", last_error());
+    let p = [0.0f32; 3];
+    // SAFETY: as above; `p` holds one vertex.
+    let st = unsafe { glcol_mesh_set_target_positions(s, b_id, p.as_ptr(), 0, 1, 0) };
+    assert_eq!(st, GlcolStatus::Unsupported, "{}", last_error());
+    assert!(last_error().contains("GL buffer"), "{}", last_error());
+    // The refusals changed nothing: the bound mesh answers as before, and a's target is
+    // still there to clear.
+    assert!(!try_query(s, a_id).unwrap().is_empty());
+    // SAFETY: as above.
+    ok(unsafe { glcol_mesh_clear_target(s, a_id) });
+    // SAFETY: a live scene; its context is current.
+    unsafe { glcol_scene_destroy(s) };
+}

@@ -317,7 +317,8 @@ pub unsafe extern "C" fn glcol_mesh_update_positions_f64(
 /// `glcol_mesh_set_transform` or `glcol_mesh_clear_target` on the mesh. Rejected whole,
 /// nothing changed: NULL_POINTER, UNKNOWN_MESH, INVALID_ARGUMENT (an f64 mesh, zero count,
 /// range past the end, stride, alignment, overflow), NON_FINITE (a coordinate not finite,
-/// or end world positions that could overflow the float range).
+/// or end world positions that could overflow the float range), UNSUPPORTED (a mesh
+/// bound to a GL buffer: the start of its step is in the host's buffer).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `positions` is NULL or readable for `vertex_count`
@@ -383,7 +384,7 @@ pub unsafe extern "C" fn glcol_mesh_set_target_positions_f64(
 /// nothing else. Its target positions, if any, stay. Not committed, as
 /// `glcol_mesh_set_target_positions`. Rejected, nothing changed: NULL_POINTER (scene, m),
 /// UNKNOWN_MESH, NON_FINITE (an entry not finite, or end world positions that could
-/// overflow the float range).
+/// overflow the float range), UNSUPPORTED (a mesh bound to a GL buffer).
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `m` is NULL or points at 12 readable doubles.
@@ -551,7 +552,7 @@ pub unsafe extern "C" fn glcol_mesh_set_transform(
 /// Statuses: UNKNOWN_MESH, INVALID_ARGUMENT (buffer 0 or not a buffer, offset/stride,
 /// buffer too small), GL_UNAVAILABLE (no or the wrong context current), GL_ERROR; scenes
 /// created for GLCOL_BACKEND_CPU or GL_SELECT (or by AUTO without a loader) answer
-/// GLCOL_STATUS_UNSUPPORTED.
+/// GLCOL_STATUS_UNSUPPORTED, and so does a mesh that has a target (clear it first).
 ///
 /// Rules while bound:
 /// - Each `glcol_query` / `glcol_query_all` checks the buffer again (it may be re-specified

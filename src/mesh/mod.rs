@@ -560,6 +560,15 @@ impl Mesh {
         Ok(())
     }
 
+    /// All the mesh's positions from where the host keeps them (a GL buffer read back at a
+    /// query): [`Mesh::update_positions`], but not the caller's update, so a target stays.
+    pub fn refresh_positions(&mut self, src: Positions<'_>) -> Result<()> {
+        let target = self.target.take();
+        let r = self.update_positions(0, src);
+        self.target = target;
+        r
+    }
+
     /// The end of the caller's vertex range `first..first + count`, or InvalidArgument when
     /// it runs past the mesh's vertices.
     pub(crate) fn vertex_range(&self, first: usize, count: usize) -> Result<usize> {

@@ -224,7 +224,7 @@ impl Selector for CpuSelector {
                         ),
                     ));
                 }
-                m.update_positions(0, pos)?;
+                m.refresh_positions(pos)?;
             }
             Ok(())
         };
