@@ -231,17 +231,14 @@ pub(super) fn filter(kind: Kind, pts: &Points) -> Verdict {
         Kind::EdgeEdge => 2,
     };
     // Swept boxes, exactly (the whole step): most candidate pairs of a broad phase end here.
-    for ax in 0..3 {
-        let range = |r: std::ops::Range<usize>| {
-            r.flat_map(|i| [pts[i][0][ax], pts[i][1][ax]])
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                    (lo.min(x), hi.max(x))
-                })
-        };
-        let (a, b) = (range(0..split), range(split..4));
-        if a.1 < b.0 || b.1 < a.0 {
-            return Verdict::Apart;
-        }
+    let extents: Box4 = std::array::from_fn(|i| {
+        std::array::from_fn(|ax| Iv {
+            lo: pts[i][0][ax].min(pts[i][1][ax]),
+            hi: pts[i][0][ax].max(pts[i][1][ax]),
+        })
+    });
+    if swept_apart(&extents, split) {
+        return Verdict::Apart;
     }
     let vel: [[Iv; 3]; 4] = std::array::from_fn(|i| {
         std::array::from_fn(|ax| Iv::point(pts[i][1][ax]).sub(Iv::point(pts[i][0][ax])))
@@ -280,6 +277,20 @@ pub(super) fn filter(kind: Kind, pts: &Points) -> Verdict {
         Piece::Meets(t) => Verdict::Meets(t),
         Piece::Undecided => Verdict::Undecided,
     }
+}
+
+/// Are the boxes of the points `0..split` and `split..4`, each point in `b`'s box, apart?
+fn swept_apart(b: &Box4, split: usize) -> bool {
+    (0..3).any(|ax| {
+        let range = |r: std::ops::Range<usize>| {
+            r.map(|i| b[i][ax])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x.lo), hi.max(x.hi))
+                })
+        };
+        let (a, c) = (range(0..split), range(split..4));
+        a.1 < c.0 || c.1 < a.0
+    })
 }
 
 /// Bernstein coefficients on `[0, 1]` of the coplanarity cubic `det(U, V, W)` (the edge
@@ -401,18 +412,8 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
         self.pieces += 1;
         let hull: Box4 =
             std::array::from_fn(|i| std::array::from_fn(|ax| pa[i][ax].hull(pb[i][ax])));
-        // Swept boxes of the piece.
-        for ax in 0..3 {
-            let range = |r: std::ops::Range<usize>| {
-                r.map(|i| hull[i][ax])
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                        (lo.min(x.lo), hi.max(x.hi))
-                    })
-            };
-            let (a, b) = (range(0..self.split), range(self.split..4));
-            if a.1 < b.0 || b.1 < a.0 {
-                return Piece::Apart;
-            }
+        if swept_apart(&hull, self.split) {
+            return Piece::Apart;
         }
         match meets(self.kind, &mut Enclosed(&hull), true) {
             Some(false) => return Piece::Apart,

@@ -122,6 +122,9 @@ fn translating(rng: &mut Rng, kind: Kind, flavor: &str) -> Points {
                 start = start.map(flat);
                 vel = vel.map(flat);
             }
+            if rng.below(2) == 0 {
+                aim(rng, &mut start, &vel, s);
+            }
         }
         "graze" => {
             aim(rng, &mut start, &vel, s);

@@ -46,9 +46,9 @@ fn solve(mut g: Vec<Vec<Q>>, mut r: Vec<Q>) -> Option<Vec<Q>> {
         for i in 0..n {
             if i != c && !g[i][c].is_zero() {
                 let f = &g[i][c] / &g[c][c];
-                for k in c..n {
-                    let v = &f * &g[c][k];
-                    g[i][k] -= v;
+                let pivot = g[c].clone();
+                for (x, p) in g[i].iter_mut().zip(&pivot).skip(c) {
+                    *x -= &f * p;
                 }
                 let v = &f * &r[c];
                 r[i] -= v;
