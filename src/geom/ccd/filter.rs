@@ -8,7 +8,9 @@
 //! on each piece `T` the positions lie in the hull of their (tightly enclosed) positions at
 //! its ends, and [`super::predicate::meets`] is evaluated with the signs those enclose:
 //!
-//! * the swept boxes apart, or the test certainly false on `T`: no meeting in `T`;
+//! * the swept boxes apart, a projection onto a coordinate plane separating them
+//!   ([`super::predicate::separated`]), or the test certainly false on `T`: no meeting in
+//!   `T`;
 //! * the test certainly true on all of `T` (coplanar throughout, exactly): they meet at the
 //!   start of `T`, which is then the time of impact when every earlier piece was apart;
 //! * the test certainly true on `T` once coplanar, `T` at most `2^-20` long, and the
@@ -18,7 +20,7 @@
 //! Pieces are visited earliest first; the first undecided one (too deep, or too many
 //! pieces) leaves the whole query to the exact test.
 
-use super::predicate::{meets, Kind, Signs};
+use super::predicate::{meets, separated, Kind, Signs};
 use super::{Points, Toi};
 
 /// An interval `[lo, hi]` of reals.
@@ -343,7 +345,11 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
         let (pa, pb) = ((self.at)(ta), (self.at)(tb));
         let hull: Box4 =
             std::array::from_fn(|i| std::array::from_fn(|ax| pa[i][ax].hull(pb[i][ax])));
-        meets(self.kind, &mut Enclosed(&hull), true)
+        let mut s = Enclosed(&hull);
+        if swept_apart(&hull, self.split) || separated(self.kind, &mut s) {
+            return Some(false);
+        }
+        meets(self.kind, &mut s, true)
     }
 
     /// The piece `[ta, tb]` of a step whose cubic is not identically zero, its Bernstein
@@ -412,10 +418,11 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
         self.pieces += 1;
         let hull: Box4 =
             std::array::from_fn(|i| std::array::from_fn(|ax| pa[i][ax].hull(pb[i][ax])));
-        if swept_apart(&hull, self.split) {
+        let mut s = Enclosed(&hull);
+        if swept_apart(&hull, self.split) || separated(self.kind, &mut s) {
             return Piece::Apart;
         }
-        match meets(self.kind, &mut Enclosed(&hull), true) {
+        match meets(self.kind, &mut s, true) {
             Some(false) => return Piece::Apart,
             // Meeting throughout the piece: at its start.
             Some(true) => {

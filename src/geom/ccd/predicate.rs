@@ -53,6 +53,38 @@ pub(super) fn meets<S: Signs>(kind: Kind, s: &mut S, coplanar: bool) -> Option<b
     }
 }
 
+/// Are the primitives certainly apart by a projection onto a coordinate plane (which keeps a
+/// meeting a meeting)? In that plane: the point strictly beyond an edge's line from the
+/// triangle's third corner, or off the line of a triangle whose corners are on it; an edge
+/// with both ends strictly on one side of the other's line. Decides, with unknown signs,
+/// near the times a triangle is degenerate or edges are parallel, where [`meets`] cannot
+/// choose a plane; the exact test does not need it.
+pub(super) fn separated<S: Signs>(kind: Kind, s: &mut S) -> bool {
+    for k in 0..3 {
+        match kind {
+            Kind::VertexFace => {
+                for (i, j, m) in [(1, 2, 3), (2, 3, 1), (3, 1, 2)] {
+                    if let (Some(sp), Some(sm)) = (s.o2(i, j, 0, k), s.o2(i, j, m, k)) {
+                        if sp != 0 && sm != sp {
+                            return true;
+                        }
+                    }
+                }
+            }
+            Kind::EdgeEdge => {
+                for (i, j, l, m) in [(0, 1, 2, 3), (2, 3, 0, 1)] {
+                    if let (Some(a), Some(b)) = (s.o2(i, j, l, k), s.o2(i, j, m, k)) {
+                        if a * b > 0 {
+                            return true;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    false
+}
+
 /// A coplanar point (0) and triangle (1, 2, 3).
 fn vertex_face<S: Signs>(s: &mut S) -> Option<bool> {
     let mut unknown = false;

@@ -251,14 +251,14 @@ fn translating_primitives_against_the_reference() {
     }
 }
 
-/// A deforming case that can meet only at `t* = num / 16`: the second primitive (a
+/// A deforming case that can meet only at `t* = num / den`: the second primitive (a
 /// triangle, or edge b) deforms within a plane; the first (the vertex, or edge a, kept
 /// parallel to the plane) crosses it once, at `t*`. Where the first is at `t*` relative to
 /// the second is chosen: a weighted point of its corners (weights on a grid of 1/8, some
 /// zero or negative: inside, on an edge or a corner, or outside).
-fn crossing_once(rng: &mut Rng, kind: Kind, tilted: bool, num: u32) -> Points {
+fn crossing_once(rng: &mut Rng, kind: Kind, tilted: bool, num: u32, den: u32) -> Points {
     let s = split(kind);
-    let tstar = num as f64 / 16.0;
+    let (num, den) = (num as f64, den as f64);
     // In-plane coordinates (u, v) and the height h; the plane maps (u, v, h) to space.
     let to_space = |u: f64, v: f64, h: f64| -> P3 {
         if tilted {
@@ -300,10 +300,12 @@ fn crossing_once(rng: &mut Rng, kind: Kind, tilted: bool, num: u32) -> Points {
     let mut pts = [[[0.0; 3]; 2]; 4];
     for i in 0..4 {
         let [u, v] = if i < s { at_t[i] } else { corners[i - s] };
-        let vel = [g(rng, 8, 1.0), g(rng, 8, 1.0)];
-        let (u0, v0) = (u - tstar * vel[0], v - tstar * vel[1]);
+        // Velocities den w: the start u - t* den w = u - num w is exact.
+        let w = [g(rng, 8, 1.0), g(rng, 8, 1.0)];
+        let vel = [den * w[0], den * w[1]];
+        let (u0, v0) = (u - num * w[0], v - num * w[1]);
         let (h0, h1) = if i < s {
-            (-slope * tstar, slope * (1.0 - tstar))
+            (-slope * num, slope * (den - num))
         } else {
             (0.0, 0.0)
         };
@@ -319,9 +321,11 @@ fn deforming_primitives_meet_only_when_built_to() {
         for tilted in [false, true] {
             let mut tally = Tally::default();
             for case in 0..150 {
-                let num = 1 + (case % 15) as u32;
-                let built = crossing_once(&mut rng, kind, tilted, num);
-                let tstar = Q::new((num as i64).into(), 16.into());
+                // t* dyadic (a point where the filter splits) or not.
+                let den = [16, 13][case % 2];
+                let num = 1 + (case / 2 % (den - 1)) as u32;
+                let built = crossing_once(&mut rng, kind, tilted, num, den as u32);
+                let tstar = Q::new((num as i64).into(), (den as i64).into());
                 for frame in FRAMES {
                     let pts = place_all(&built, frame);
                     let truth = dist2_at(&pts, split(kind), &tstar).is_zero();
@@ -377,7 +381,11 @@ fn answers_are_invariant_under_exact_changes() {
         }
         for tilted in [false, true] {
             for num in 1..16 {
-                invariant(kind, &crossing_once(&mut rng, kind, tilted, num));
+                invariant(kind, &crossing_once(&mut rng, kind, tilted, num, 16));
+                invariant(
+                    kind,
+                    &crossing_once(&mut rng, kind, tilted, num % 12 + 1, 13),
+                );
             }
         }
     }
