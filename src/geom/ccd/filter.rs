@@ -177,6 +177,8 @@ const MAX_ISOLATE_DEPTH: u32 = 12;
 const MAX_ROOT_DEPTH: u32 = 24;
 /// A piece at most this long may certify a crossing (`2^-20`).
 const TOI_DEPTH: u32 = 20;
+/// Half the width of a root's certified interval (`2^-22`).
+const ROOT_HALF_WIDTH: f64 = 1.0 / (1u32 << 22) as f64;
 /// Pieces visited at most by the search of a step coplanar throughout.
 const MAX_PIECES: u32 = 160;
 
@@ -208,6 +210,23 @@ fn split_bern(b: &Bern) -> (Bern, Bern) {
     let (b012, b123) = (mid(b01, b12), mid(b12, b23));
     let m = mid(b012, b123);
     ([b[0], b01, b012, m], [m, b123, b23, b[3]])
+}
+
+/// The cubic at `t` from its Bernstein coefficients on `[0, 1]`, roughly (the enclosures'
+/// midpoints, plain floats): only to guess where a root is.
+fn eval_plain(b: &Bern, t: f64) -> f64 {
+    let c = b.map(|x| 0.5 * x.lo + 0.5 * x.hi);
+    let lerp = |a: f64, b: f64| a + t * (b - a);
+    let (c01, c12, c23) = (lerp(c[0], c[1]), lerp(c[1], c[2]), lerp(c[2], c[3]));
+    lerp(lerp(c01, c12), lerp(c12, c23))
+}
+
+/// The cubic at `t` from its Bernstein coefficients on `[0, 1]`, enclosed (de Casteljau).
+fn eval_iv(b: &Bern, t: f64) -> Iv {
+    let t = Iv::point(t);
+    let lerp = |a: Iv, b: Iv| a.add(t.mul(b.sub(a)));
+    let (c01, c12, c23) = (lerp(b[0], b[1]), lerp(b[1], b[2]), lerp(b[2], b[3]));
+    lerp(lerp(c01, c12), lerp(c12, c23))
 }
 
 /// The certain signs of the coefficients (all nonzero), if they are.
@@ -258,14 +277,15 @@ pub(super) fn filter(kind: Kind, pts: &Points) -> Verdict {
             })
         })
     };
+    let (p0, p1) = (at(0.0), at(1.0));
+    let bern = cubic_bernstein(&p0, &p1);
     let mut search = Search {
         kind,
+        whole: bern,
         split,
         pieces: 0,
         at: &at,
     };
-    let (p0, p1) = (at(0.0), at(1.0));
-    let bern = cubic_bernstein(&p0, &p1);
     if bern.iter().all(|b| b.sign() == Some(0)) {
         // Coplanar throughout (exactly, as the enclosures show).
         return match search.piece(0.0, 1.0, &p0, &p1, 0) {
@@ -334,6 +354,8 @@ enum Piece {
 /// The bisection's state.
 struct Search<'a, F: Fn(f64) -> Box4> {
     kind: Kind,
+    /// The cubic's Bernstein coefficients on `[0, 1]`.
+    whole: Bern,
     split: usize,
     pieces: u32,
     at: &'a F,
@@ -381,6 +403,40 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
     /// coefficients' end signs differ: narrowed around it until the test is decided there.
     fn root(&mut self, mut b: Bern, mut ta: f64, mut tb: f64, mut depth: u32) -> Piece {
         let s_lo = b[0].sign();
+        // Where the root is, roughly (plain floats), then certified: the cubic's enclosed
+        // values `2^-22` either side have the end signs, so the root is between them.
+        let sign = s_lo.unwrap_or(0);
+        let (mut lo, mut hi) = (ta, tb);
+        for _ in 0..24 {
+            let m = 0.5 * (lo + hi);
+            let v = eval_plain(&self.whole, m);
+            if v == 0.0 {
+                break;
+            }
+            if (v > 0.0) == (sign > 0) {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        let r = 0.5 * (lo + hi);
+        let (ca, cb) = ((r - ROOT_HALF_WIDTH).max(ta), (r + ROOT_HALF_WIDTH).min(tb));
+        if ca < cb
+            && eval_iv(&self.whole, ca).sign() == s_lo
+            && eval_iv(&self.whole, cb).sign() == Some(-sign)
+        {
+            match self.coplanar_test(ca, cb) {
+                Some(false) => return Piece::Apart,
+                Some(true) => {
+                    return Piece::Meets(Toi {
+                        t: ca,
+                        at_start: false,
+                    })
+                }
+                None => {}
+            }
+        }
+        // Else by bisection of the enclosed coefficients.
         loop {
             if depth >= 6 && (depth % 7 == 6 || depth >= TOI_DEPTH) {
                 match self.coplanar_test(ta, tb) {
