@@ -325,22 +325,27 @@ fn cubic_bernstein(p0: &Box4, p1: &Box4) -> Bern {
         [e(p0, 2), e(p1, 2)],
         [e(p0, 3), e(p1, 3)],
     );
-    let det = |a: &[Iv; 3], b: &[Iv; 3], c: &[Iv; 3]| {
-        let minor = |r: usize, s: usize| b[r].mul(c[s]).sub(b[s].mul(c[r]));
-        a[0].mul(minor(1, 2))
-            .add(a[1].mul(minor(2, 0)))
-            .add(a[2].mul(minor(0, 1)))
+    // det(u, v, w) = u . (v x w), the four crosses shared.
+    let cross = |b: &[Iv; 3], c: &[Iv; 3]| -> [Iv; 3] {
+        std::array::from_fn(|r| {
+            let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+            b[r1].mul(c[r2]).sub(b[r2].mul(c[r1]))
+        })
+    };
+    let vw = [
+        [cross(&v[0], &w[0]), cross(&v[0], &w[1])],
+        [cross(&v[1], &w[0]), cross(&v[1], &w[1])],
+    ];
+    let det = |i: usize, j: usize, k: usize| {
+        let (a, m) = (&u[i], &vw[j][k]);
+        a[0].mul(m[0]).add(a[1].mul(m[1])).add(a[2].mul(m[2]))
     };
     let three = Iv::point(3.0);
     [
-        three.mul(det(&u[0], &v[0], &w[0])),
-        det(&u[1], &v[0], &w[0])
-            .add(det(&u[0], &v[1], &w[0]))
-            .add(det(&u[0], &v[0], &w[1])),
-        det(&u[1], &v[1], &w[0])
-            .add(det(&u[1], &v[0], &w[1]))
-            .add(det(&u[0], &v[1], &w[1])),
-        three.mul(det(&u[1], &v[1], &w[1])),
+        three.mul(det(0, 0, 0)),
+        det(1, 0, 0).add(det(0, 1, 0)).add(det(0, 0, 1)),
+        det(1, 1, 0).add(det(1, 0, 1)).add(det(0, 1, 1)),
+        three.mul(det(1, 1, 1)),
     ]
 }
 
