@@ -13,6 +13,8 @@
 //!
 //! Every family runs at the scales `2^-100` (about 1e-30), 1 and `2^100` (about 1e30) and at
 //! the offset 1e6, every answer goes through [`check_toi`], and the tallies are printed.
+//! Random deforming motions run at the literal scales 1e-30 and 1e30, and translating ones
+//! at `2^900` and `2^-1000`, beyond the filter's range.
 
 use super::super::predicate::Kind;
 use super::super::{decide, edge_edge, vertex_face, Points, Stage, Toi};
@@ -451,4 +453,32 @@ fn the_public_calls_take_start_and_end() {
     assert!(got.t <= 0.5 && got.t >= 0.5 - 1.0 / (1 << 20) as f64);
     let b2 = [[4.0, -1.0, -1.0], [4.0, 1.0, -1.0]];
     assert_eq!(edge_edge([a, a], [b0, b2]), None);
+}
+
+/// Scales far beyond the filter's range (2^900: past its overflow guard; 2^-1000: its
+/// products underflow) leave the answer to the exact test, on integers of thousands of
+/// bits: the same answers as at scale 1, the times within `2^-20` of each other.
+#[test]
+fn extreme_scales_give_the_same_answers() {
+    let mut rng = Rng(0xe7e7_0001);
+    for kind in [Kind::VertexFace, Kind::EdgeEdge] {
+        let mut met = 0;
+        for flavor in FLAVORS {
+            for _ in 0..4 {
+                let pts = translating(&mut rng, kind, flavor);
+                let base = decide(kind, &pts).0;
+                met += usize::from(base.is_some());
+                for s in [900, -1000] {
+                    let scaled = place_all(&pts, (s, 0.0));
+                    let got = decide(kind, &scaled).0;
+                    assert_eq!(got.is_some(), base.is_some(), "2^{s}: {scaled:?}");
+                    if let (Some(a), Some(b)) = (got, base) {
+                        assert_eq!(a.at_start, b.at_start, "2^{s}: {scaled:?}");
+                        assert!((a.t - b.t).abs() <= 1.0 / (1 << 20) as f64, "2^{s}");
+                    }
+                }
+            }
+        }
+        assert!(met > 0);
+    }
 }
