@@ -25,9 +25,9 @@ use super::{Points, Toi};
 
 /// An interval `[lo, hi]` of reals.
 #[derive(Clone, Copy, Debug)]
-struct Iv {
-    lo: f64,
-    hi: f64,
+pub(super) struct Iv {
+    pub(super) lo: f64,
+    pub(super) hi: f64,
 }
 
 /// `a + b` and its exact error (Knuth's two-sum).
@@ -62,25 +62,25 @@ fn add_up(a: f64, b: f64) -> f64 {
 
 impl Iv {
     #[inline(always)]
-    fn point(x: f64) -> Iv {
+    pub(super) fn point(x: f64) -> Iv {
         Iv { lo: x, hi: x }
     }
     #[inline(always)]
-    fn add(self, o: Iv) -> Iv {
+    pub(super) fn add(self, o: Iv) -> Iv {
         Iv {
             lo: add_down(self.lo, o.lo),
             hi: add_up(self.hi, o.hi),
         }
     }
     #[inline(always)]
-    fn sub(self, o: Iv) -> Iv {
+    pub(super) fn sub(self, o: Iv) -> Iv {
         Iv {
             lo: add_down(self.lo, -o.hi),
             hi: add_up(self.hi, -o.lo),
         }
     }
     #[inline(always)]
-    fn mul(self, o: Iv) -> Iv {
+    pub(super) fn mul(self, o: Iv) -> Iv {
         if (self.lo == 0.0 && self.hi == 0.0) || (o.lo == 0.0 && o.hi == 0.0) {
             return Iv::point(0.0);
         }
@@ -107,7 +107,7 @@ impl Iv {
     }
     /// The sign of every number inside, if one (NaN bounds: none).
     #[inline(always)]
-    fn sign(self) -> Option<i8> {
+    pub(super) fn sign(self) -> Option<i8> {
         if self.lo > 0.0 {
             Some(1)
         } else if self.hi < 0.0 {

@@ -4,12 +4,15 @@
 //! rule in the Bernstein basis, de Casteljau subdivision at midpoints), and the exact sign
 //! of a polynomial at such a root (a common factor found by the gcd means zero, else the
 //! isolating interval is refined until the polynomial's Bernstein coefficients on it share
-//! one sign).
+//! one sign). Two shortcuts in doubles, both checked exactly or enclosed: a root's interval
+//! is narrowed to `2^-48` around a guess found in doubles once the exact signs at its new
+//! ends confirm it, and a sign is first read from an interval evaluation there.
 //!
 //! Degrees here are at most 3 (the coplanarity cubic); nothing depends on it but speed.
 
+use super::filter::Iv;
 use num_bigint::BigInt;
-use num_traits::{One, Signed, Zero};
+use num_traits::{One, Signed, ToPrimitive, Zero};
 
 /// An integer.
 pub(super) type Int = BigInt;
@@ -238,6 +241,41 @@ impl Poly {
     }
 }
 
+/// The coefficients enclosed in doubles, all divided by one power of two (which changes no
+/// sign): each magnitude cut to its 62 leading bits of the largest, `[m, m + 1] 2^shift`.
+fn coefficient_enclosures(p: &Poly) -> Vec<Iv> {
+    let bits = p.0.iter().map(|c| c.bits()).max().unwrap_or(0);
+    let shift = bits.saturating_sub(62);
+    p.0.iter()
+        .map(|c| {
+            let m = (c.magnitude() >> shift).to_u64().expect("62 bits");
+            // u64 to f64 rounds to nearest: one step out covers it.
+            let (lo, hi) = ((m as f64).next_down().max(0.0), ((m + 1) as f64).next_up());
+            if c.is_negative() {
+                Iv { lo: -hi, hi: -lo }
+            } else {
+                Iv { lo, hi }
+            }
+        })
+        .collect()
+}
+
+/// The polynomial's values over `t` (a subinterval of `[0, 1]`), enclosed, divided by a
+/// positive power of two (Horner in interval arithmetic).
+fn enclose(c: &[Iv], t: Iv) -> Iv {
+    c.iter()
+        .rev()
+        .fold(Iv::point(0.0), |acc, &x| acc.mul(t).add(x))
+}
+
+/// `[lo / den, hi / den]` enclosed in doubles (within `2^-52`; `0 <= lo < hi <= den`).
+fn time_enclosure(lo: &Int, hi: &Int, den: &Int) -> Iv {
+    Iv {
+        lo: floor_f64(lo, den),
+        hi: (floor_f64(hi, den) + f64::powi(2.0, -52)).min(1.0),
+    }
+}
+
 /// Sign variations of a sequence, zeros skipped.
 fn variations(c: &[Int]) -> usize {
     let mut last = 0i8;
@@ -315,6 +353,60 @@ impl Alg {
         }
     }
 
+    /// Narrows the isolating interval to about `2^-48` at once: the root found in doubles
+    /// (bisection on the coefficients rounded), and the interval kept only where the exact
+    /// signs at its ends confirm it. Nothing changes when they do not.
+    pub(super) fn narrow(&mut self) {
+        let Alg::Root {
+            s,
+            lo,
+            hi,
+            den,
+            s_lo,
+        } = self
+        else {
+            return;
+        };
+        const BITS: usize = 50;
+        let one: Int = Int::one() << BITS;
+        if *den >= one {
+            return;
+        }
+        let c: Vec<f64> = coefficient_enclosures(s)
+            .iter()
+            .map(|x| 0.5 * x.lo + 0.5 * x.hi)
+            .collect();
+        let eval = |t: f64| c.iter().rev().fold(0.0, |acc, &x| acc * t + x);
+        let t = time_enclosure(lo, hi, den);
+        let (mut a, mut b) = (t.lo, t.hi);
+        for _ in 0..60 {
+            let m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+            let v = eval(m);
+            if v == 0.0 {
+                (a, b) = (m, m);
+                break;
+            }
+            if (v > 0.0) == (*s_lo > 0) {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        // [k - 2, k + 2] 2^-BITS around the guess, inside the interval, signs confirmed.
+        let k = Int::from((0.5 * (a + b) * (1u64 << BITS) as f64) as u64);
+        let (na, nb) = (&k - 2, &k + 2);
+        let scale = &one / &*den;
+        if &scale * &*den != one || na < &*lo * &scale || nb > &*hi * &scale {
+            return;
+        }
+        if s.sign_at(&na, &one) == *s_lo && s.sign_at(&nb, &one) == -*s_lo {
+            (*lo, *hi, *den) = (na, nb, one);
+        }
+    }
+
     /// The exact sign of `g` at this number (refining the interval as needed).
     pub(super) fn sign_of(&mut self, g: &Poly) -> i8 {
         if g.is_zero() {
@@ -322,6 +414,16 @@ impl Alg {
         }
         if g.degree() == 0 {
             return sign(&g.0[0]);
+        }
+        self.narrow();
+        if let Alg::Root { lo, hi, den, .. } = self {
+            // In doubles first: decided unless g nearly vanishes here.
+            if let Some(v) = enclose(&coefficient_enclosures(g), time_enclosure(lo, hi, den))
+                .sign()
+                .filter(|&v| v != 0)
+            {
+                return v;
+            }
         }
         let mut checked_gcd = false;
         loop {
@@ -353,6 +455,7 @@ impl Alg {
     /// Refines until the interval is at most `2^-bits` wide; then the largest `f64` at or
     /// below its lower end: a lower bound of the number, within `2^-bits` (plus `2^-52`).
     pub(super) fn lower_bound(&mut self, bits: u32) -> f64 {
+        self.narrow();
         loop {
             match self {
                 Alg::Rat { n, d } => return floor_f64(n, d),
