@@ -176,14 +176,27 @@ impl Poly {
         (q, r)
     }
 
-    /// The greatest common divisor, primitive (of two zero polynomials: zero).
+    /// The polynomial divided by the largest power of two dividing every coefficient (cheap,
+    /// where the full content's gcd is not: it keeps pseudo-remainders from growing by the
+    /// common scale of the coordinates).
+    fn without_twos(self) -> Poly {
+        let z = self.0.iter().filter_map(|c| c.trailing_zeros()).min();
+        match z {
+            Some(z) if z > 0 => Poly(self.0.into_iter().map(|c| c >> z as usize).collect()),
+            _ => self,
+        }
+    }
+
+    /// A greatest common divisor (up to a constant factor; of two zero polynomials: zero).
+    /// Degrees are small, so the pseudo-remainders' coefficients stay small enough without
+    /// taking primitive parts at each step.
     pub(super) fn gcd(&self, o: &Poly) -> Poly {
-        let (mut a, mut b) = (self.clone().primitive(), o.clone().primitive());
+        let (mut a, mut b) = (self.clone().without_twos(), o.clone().without_twos());
         if a.0.len() < b.0.len() {
             std::mem::swap(&mut a, &mut b);
         }
         while !b.is_zero() {
-            let r = a.pseudo_divide(&b).1.primitive();
+            let r = a.pseudo_divide(&b).1.without_twos();
             a = b;
             b = r;
         }
@@ -194,9 +207,9 @@ impl Poly {
     pub(super) fn square_free(&self) -> Poly {
         let g = self.gcd(&self.derivative());
         if g.degree() == 0 {
-            return self.clone().primitive();
+            return self.clone().without_twos();
         }
-        self.pseudo_divide(&g).0.primitive()
+        self.pseudo_divide(&g.primitive()).0.primitive()
     }
 
     /// The coefficients in the Bernstein basis of degree `deg` on `[lo / den, hi / den]`
