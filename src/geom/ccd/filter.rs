@@ -4,21 +4,29 @@
 //! Intervals are rounded outward (a sum is widened by one ulp only where it was inexact, as
 //! the error-free sum tells; a product always, unless a factor is exactly 0), so an exact
 //! zero stays an exact zero: positions that share a coordinate, or a planar motion in a
-//! coordinate plane, keep their certain zero signs. The time range `[0, 1]` is bisected;
-//! on each piece `T` the positions lie in the hull of their (tightly enclosed) positions at
-//! its ends, and [`super::predicate::meets`] is evaluated with the signs those enclose:
+//! coordinate plane, keep their certain zero signs. Positions over a piece `T` of the step
+//! lie in the hull of their (tightly enclosed) positions at its ends, and
+//! [`super::predicate::meets`] is evaluated with the signs those enclose.
 //!
-//! * the swept boxes apart, a projection onto a coordinate plane separating them
-//!   ([`super::predicate::separated`]), or the test certainly false on `T`: no meeting in
-//!   `T`;
-//! * the test certainly true on all of `T` (coplanar throughout, exactly): they meet at the
-//!   start of `T`, which is then the time of impact when every earlier piece was apart;
-//! * the test certainly true on `T` once coplanar, `T` at most `2^-20` long, and the
-//!   coplanarity cubic of opposite certain signs at its ends: they meet at a root inside,
-//!   and the start of `T` is a time of impact within `2^-20`.
+//! * Swept boxes of the whole step apart (exact comparisons): apart.
+//! * The coplanarity cubic, enclosed in the Bernstein basis on `[0, 1]` (its coefficients
+//!   are determinants of the edge vectors at the start and the end), has its roots isolated
+//!   by de Casteljau subdivision, earliest first: a piece whose coefficients all have one
+//!   certain sign holds no root (never coplanar there); one whose certain signs vary once
+//!   holds exactly one. That root is located in plain doubles and certified by the cubic's
+//!   enclosed values `2^-22` either side (or, failing that, by bisecting the enclosed
+//!   coefficients); on the certified piece the test once coplanar is certainly false (or the
+//!   swept boxes are apart, or a projection onto a coordinate plane separates the
+//!   primitives, [`super::predicate::separated`]): no meeting there; certainly true: they
+//!   meet at the root, and the piece's start is a time of impact within `2^-20` (every
+//!   earlier piece held no meeting).
+//! * A cubic identically zero (every coefficient exactly 0): coplanar throughout; the step is
+//!   bisected earliest first, a piece apart as above, or certainly meeting throughout: the
+//!   time of impact is its start, exactly (`AT_START` when that is 0).
 //!
-//! Pieces are visited earliest first; the first undecided one (too deep, or too many
-//! pieces) leaves the whole query to the exact test.
+//! The first piece left undecided (a root at a subdivision point or a double one, a sign
+//! that is exactly 0 at the root, too deep, too many pieces) leaves the whole query to the
+//! exact test.
 
 use super::predicate::{meets, separated, Kind, Signs};
 use super::{Points, Toi};
@@ -373,10 +381,11 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
         let hull: Box4 =
             std::array::from_fn(|i| std::array::from_fn(|ax| pa[i][ax].hull(pb[i][ax])));
         let mut s = Enclosed(&hull);
-        if swept_apart(&hull, self.split) || separated(self.kind, &mut s) {
-            return Some(false);
+        // The static test first (it decides most pieces); the cheaper exclusions where not.
+        match meets(self.kind, &mut s, true) {
+            None if swept_apart(&hull, self.split) || separated(self.kind, &mut s) => Some(false),
+            r => r,
         }
-        meets(self.kind, &mut s, true)
     }
 
     /// The piece `[ta, tb]` of a step whose cubic is not identically zero, its Bernstein
