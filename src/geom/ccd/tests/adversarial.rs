@@ -6,8 +6,10 @@
 //!   edge's end grazing a corner or an edge), a vertex sliding along an edge, zero motion,
 //!   degenerate triangles (segments, points) and edges (points), near misses by 1/64.
 //! * Deforming primitives that can only meet at one chosen time `t*` (a triangle or an
-//!   edge deforming within a plane, the other primitive crossing that plane once, flat):
-//!   the truth is the exact static test at `t*`, and the time of impact is `t*`.
+//!   edge deforming within a plane, the other primitive crossing that plane once, flat),
+//!   at a dyadic `t*` or not, the triangle or edge sometimes degenerate at `t*` (a double
+//!   root of the cubic): the truth is the exact static test at `t*`, and the time of impact
+//!   is `t*`.
 //! * Invariances that hold exactly: scaling by a power of two, offsets (1e6) that keep the
 //!   doubles exact, reordering the triangle's or the edges' points, swapping the edges.
 //!
@@ -271,7 +273,18 @@ fn crossing_once(rng: &mut Rng, kind: Kind, tilted: bool, num: u32, den: u32) ->
         }
     };
     // The second primitive's corners at t* (in the plane), and every point's velocity.
-    let corners: Vec<[f64; 2]> = (s..4).map(|_| [g(rng, 8, 2.0), g(rng, 8, 2.0)]).collect();
+    let mut corners: Vec<[f64; 2]> = (s..4).map(|_| [g(rng, 8, 2.0), g(rng, 8, 2.0)]).collect();
+    if rng.below(4) == 0 {
+        // Degenerate at t* (the cubic then has a double root there): the triangle's corners
+        // on one line, or edge b a point.
+        let last = corners.len() - 1;
+        let k = g(rng, 2, 2.0);
+        corners[last] =
+            std::array::from_fn(|c| corners[0][c] + k * (corners[last - 1][c] - corners[0][c]));
+        if kind == Kind::EdgeEdge {
+            corners[last] = corners[0];
+        }
+    }
     let mut at_t: Vec<[f64; 2]> = Vec::new();
     let deg = rng.below(4) == 0;
     for _ in 0..s {
