@@ -3,9 +3,9 @@
 //! a projection, and no setup.
 
 use super::general::normal_axis_guess;
+use crate::geom::predicates::{drop_axis, orient2d, P3};
 #[cfg(any(test, feature = "internals"))]
 use crate::geom::predicates::orient3d;
-use crate::geom::predicates::{drop_axis, orient2d, P3};
 use crate::geom::tritri::Plane;
 
 #[cfg(any(test, feature = "internals"))]
