@@ -1,9 +1,11 @@
-//! Geometry: boxes, exact predicates, the exact triangle test and viewing volumes.
+//! Geometry: boxes, exact predicates, the exact triangle test, viewing volumes and the exact
+//! primitive tests of continuous detection.
 
 pub mod adjacent;
 pub mod affine;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod batch;
+pub mod ccd;
 pub mod contact;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod lanes;
