@@ -66,6 +66,7 @@ pub use error::{Error, ErrorKind, Result};
 pub use geom::contact::ContactGeometry;
 pub use gpu::Lookup as GlLoader;
 pub use mesh::{Mesh, Positions};
+pub use obj::ObjMesh;
 pub use query::all::AllStats;
 pub use scene::{MeshId, Scene, SceneConfig};
 

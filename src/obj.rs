@@ -14,6 +14,11 @@ pub struct ObjMesh {
 }
 
 impl ObjMesh {
+    /// The mesh in the file at `path` ([`load`]).
+    pub fn load(path: impl AsRef<std::path::Path>) -> Result<ObjMesh> {
+        load(path)
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len() / 3

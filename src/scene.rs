@@ -13,8 +13,7 @@ use crate::plan::{unknown, Answer, Planner};
 use crate::query::all::AllStats;
 use crate::query::QueryStats;
 
-/// Id of a mesh. Ids start at 1, are never 0 and never reused (unique in the process).
-pub type MeshId = u32;
+pub use crate::mesh::MeshId;
 
 /// How a scene answers queries.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -5,7 +5,7 @@ use std::ffi::{c_char, CStr};
 use super::desc::try_reserve;
 use super::guard::{guard, invalid, non_null};
 use super::types::*;
-use crate::obj;
+use crate::ObjMesh;
 
 /// Reads a Wavefront OBJ file (`v` and `f` lines; larger faces split into triangle fans)
 /// for examples and tests. On success `*out` owns arrays to release with `glcol_obj_free`.
@@ -24,7 +24,7 @@ pub unsafe extern "C" fn glcol_obj_load(
         let p = unsafe { CStr::from_ptr(path) }
             .to_str()
             .map_err(|_| invalid("path is not UTF-8"))?;
-        let m = obj::load(p)?;
+        let m = ObjMesh::load(p)?;
         let mut positions = Vec::new();
         try_reserve(
             &mut positions,

@@ -12,6 +12,9 @@ pub(crate) use positions::grow_f64;
 pub use positions::Positions;
 pub(crate) use target::Target;
 
+/// Id of a mesh. Ids start at 1, are never 0 and never reused (unique in the process).
+pub type MeshId = u32;
+
 /// Most vertices a mesh can have, 2^32 - 1: vertex numbers are `u32`. The one limit of
 /// [`Mesh::check_counts`] (which the C API calls before any array is read),
 /// [`Positions::new`] and [`Mesh::new`], all through [`check_vertex_count`].

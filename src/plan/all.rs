@@ -12,9 +12,9 @@ use crate::backend::{Backend, Contact, LeafPairs, Pair, QueryMeshes};
 use crate::error::{Error, ErrorKind, Result};
 use crate::geom::Aabb;
 use crate::mesh::Mesh;
+use crate::mesh::MeshId;
 use crate::query::all::{self as whole, AllStats, SceneMesh, SelfPrep};
 use crate::query::{self, QueryStats};
-use crate::scene::MeshId;
 
 /// A unit of whole-scene work: a mesh pair (positions in the query's mesh list), or a run
 /// of one mesh's self-colliding leaf pairs.

@@ -11,7 +11,7 @@ use crate::error::{try_reserve, Error, ErrorKind, Result};
 use crate::geom::contact::{contact_geometry_into, ContactGeometry, PolygonPairs};
 use crate::geom::P3;
 use crate::mesh::Mesh;
-use crate::scene::MeshId;
+use crate::mesh::MeshId;
 
 /// The pairs of an answer: a reference query's contacts, or a whole-scene query's pairs.
 #[derive(Clone, Copy)]

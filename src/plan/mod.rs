@@ -27,9 +27,9 @@ pub(crate) use geometry::Answer;
 use crate::backend::{Backend, Contact, QueryMeshes, Selector};
 use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::Mesh;
+use crate::mesh::MeshId;
 use crate::query::all::{AllStats, BroadPhase, SelfPrep};
 use crate::query::{self, QueryStats, Workspace};
-use crate::scene::MeshId;
 use workers::Workers;
 
 /// Routes a scene's queries to its backend and to its CPU engines, on its worker threads.
