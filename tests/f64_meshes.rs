@@ -640,7 +640,7 @@ fn the_rust_api_refuses_the_other_precision() {
 
 mod gl {
     use super::*;
-    use common::backends::gl_support::{self, Ctx, Profile};
+    use common::backends::gl_support::{self, host_buffer, Ctx, Profile};
 
     /// f64 meshes (two placed) and a float mesh: every query's answer with ids as
     /// positions.
@@ -721,15 +721,7 @@ mod gl {
         let sq = common::square(0.0, 0.0);
         let mut s = FfiScene(gl_support::scene(GlcolBackend::GlCompute, 0.0, 0));
         let a = s.add(&sq);
-        // SAFETY: this test's GL context is current on this thread; the buffer is its own.
-        let host = unsafe {
-            let host = g.create_buffer().unwrap();
-            g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
-            let bytes = std::slice::from_raw_parts(sq.pos.as_ptr().cast::<u8>(), sq.pos.len() * 12);
-            g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
-            g.bind_buffer(glow::ARRAY_BUFFER, None);
-            host
-        };
+        let host = host_buffer(&g, &sq.pos);
         ok(
             unsafe { glcol_mesh_bind_gl_buffer(s.0, a, host.0.get(), 0, 12) },
             "bind",

@@ -278,16 +278,7 @@ fn epsilon_zero_is_exact_on_the_gl_backends() {
     let s = scene(GlcolBackend::GlCompute, 0.0, 0);
     let o_id = add_mesh(s, &om.pos, &om.idx, 3);
     let b_id = add_mesh(s, &bm.pos, &bm.idx, 3);
-    // SAFETY: this test's GL context is current on this thread; the objects are its own.
-    let host = unsafe {
-        let h = g.create_buffer().unwrap();
-        let flat: Vec<f32> = om.pos.iter().flatten().copied().collect();
-        let bytes = std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4);
-        g.bind_buffer(glow::ARRAY_BUFFER, Some(h));
-        g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
-        g.bind_buffer(glow::ARRAY_BUFFER, None);
-        h
-    };
+    let host = host_buffer(&g, &om.pos);
     // SAFETY: `s` is a live scene of this test; its GL context is current on this thread.
     ok(unsafe { glcol_mesh_bind_gl_buffer(s, o_id, host.0.get(), 0, 0) });
     let got: Pairs = query(s, b_id).iter().map(|c| (c.1, c.2)).collect();

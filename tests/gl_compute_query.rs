@@ -13,7 +13,7 @@ mod common;
 use common::backends::gl_support;
 
 use common::{place, shared_mesh, wave, TestMesh};
-use gl_support::{gl_loader, Ctx, Profile};
+use gl_support::{gl_loader, host_buffer, Ctx, Profile};
 use glcollide::internals::{BruteSelector, Gl, GlComputeSelector};
 use glcollide::{Contact, ErrorKind, MeshId, Positions, QueryStats, Scene, SceneConfig};
 
@@ -530,16 +530,7 @@ fn bound_meshes_raise_epsilon_from_their_real_extent() {
             let id = s
                 .create_mesh(Positions::from_points(&fake), &m.idx, 3)
                 .unwrap();
-            let flat: Vec<f32> = m.pos.iter().flatten().copied().collect();
-            // SAFETY: this test's GL context is current on this thread; the objects are its own.
-            let host = unsafe {
-                let h = g.create_buffer().unwrap();
-                let bytes = std::slice::from_raw_parts(flat.as_ptr().cast::<u8>(), flat.len() * 4);
-                g.bind_buffer(glow::ARRAY_BUFFER, Some(h));
-                g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
-                g.bind_buffer(glow::ARRAY_BUFFER, None);
-                h
-            };
+            let host = host_buffer(&g, &m.pos);
             s.bind_gl_buffer(id, host.0.get(), 0, 0).unwrap();
             hosts.push(host);
             ids.push(id);

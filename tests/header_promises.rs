@@ -8,9 +8,8 @@ mod common;
 use std::collections::BTreeSet;
 use std::ptr::null;
 
-use common::backends::gl_support::{add_mesh, last_error, ok, scene, Ctx, Profile};
+use common::backends::gl_support::{add_mesh, host_buffer, last_error, ok, scene, Ctx, Profile};
 use glcollide::ffi::*;
-use glow::HasContext;
 
 fn header() -> String {
     let p = concat!(env!("CARGO_MANIFEST_DIR"), "/include/glcollide.h");
@@ -177,12 +176,7 @@ fn geometry_refuses_after_every_change_the_header_lists() {
         (
             "glcol_mesh_bind_gl_buffer",
             Box::new(move |s, b| unsafe {
-                let buf = g.create_buffer().unwrap();
-                g.bind_buffer(glow::ARRAY_BUFFER, Some(buf));
-                let p: [f32; 9] = [0.2, 0.2, -0.5, 0.2, 0.2, 0.5, 0.8, 0.8, 0.0];
-                let bytes: Vec<u8> = p.iter().flat_map(|x| x.to_ne_bytes()).collect();
-                g.buffer_data_u8_slice(glow::ARRAY_BUFFER, &bytes, glow::STATIC_DRAW);
-                g.bind_buffer(glow::ARRAY_BUFFER, None);
+                let buf = host_buffer(&g, &[[0.2, 0.2, -0.5], [0.2, 0.2, 0.5], [0.8, 0.8, 0.0]]);
                 glcol_mesh_bind_gl_buffer(s, b, buf.0.get(), 0, 0)
             }),
         ),

@@ -684,7 +684,7 @@ fn set_transform_cost() {
 
 mod gl {
     use super::*;
-    use common::backends::gl_support::{self, Ctx, Profile};
+    use common::backends::gl_support::{self, host_buffer, Ctx, Profile};
     use common::backends::{ok, FfiScene, TestScene};
     use glcollide::ffi::*;
 
@@ -774,15 +774,7 @@ mod gl {
         let mut s = FfiScene(gl_support::scene(GlcolBackend::GlCompute, 0.001, 0));
         let a = s.add(&t);
         let b = s.add(&t);
-        // SAFETY: this test's GL context is current on this thread; the buffer is its own.
-        let host = unsafe {
-            let host = g.create_buffer().unwrap();
-            g.bind_buffer(glow::ARRAY_BUFFER, Some(host));
-            let bytes = std::slice::from_raw_parts(t.pos.as_ptr().cast::<u8>(), t.pos.len() * 12);
-            g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
-            g.bind_buffer(glow::ARRAY_BUFFER, None);
-            host
-        };
+        let host = host_buffer(&g, &t.pos);
         ok(
             unsafe { glcol_mesh_bind_gl_buffer(s.0, a, host.0.get(), 0, 12) },
             "bind",

@@ -19,32 +19,66 @@ pub(super) fn aligned<T>(p: *const T, what: &str) -> FfiResult {
     }
 }
 
-/// Reads a caller's struct: `struct_size` (its first field) first, since the rest may not
-/// be there, then, if it is one of `sizes` (this library's `size_of::<T>()` first, then the
-/// sizes of older versions, each a prefix of `T`), that many bytes over `defaults`: the
-/// fields an older struct lacks keep their defaults and nothing past `struct_size` is read.
+/// A caller's struct led by `struct_size` (offset 0), in versions that grow by appended
+/// fields: `GlcolSceneDesc` and `GlcolMeshDesc`.
+pub(super) trait Desc: Copy {
+    /// Its C name, for messages.
+    const NAME: &'static str;
+    /// The sizes accepted: this version's first, then older versions' (each with a note
+    /// saying which), each a prefix of whole fields.
+    const SIZES: &'static [(usize, &'static str)];
+    /// What the `_init` functions write, `struct_size` aside.
+    fn defaults() -> Self;
+    /// Sets `struct_size`.
+    fn set_size(&mut self, n: u32);
+}
+
+impl Desc for GlcolSceneDesc {
+    const NAME: &'static str = "GlcolSceneDesc";
+    const SIZES: &'static [(usize, &'static str)] = &SCENE_DESC_SIZES;
+    fn defaults() -> Self {
+        scene_desc_defaults()
+    }
+    fn set_size(&mut self, n: u32) {
+        self.struct_size = n;
+    }
+}
+
+impl Desc for GlcolMeshDesc {
+    const NAME: &'static str = "GlcolMeshDesc";
+    const SIZES: &'static [(usize, &'static str)] = &MESH_DESC_SIZES;
+    fn defaults() -> Self {
+        mesh_desc_defaults()
+    }
+    fn set_size(&mut self, n: u32) {
+        self.struct_size = n;
+    }
+}
+
+// `read_desc` reads `struct_size` at offset 0.
+const _: () = assert!(std::mem::offset_of!(GlcolSceneDesc, struct_size) == 0);
+const _: () = assert!(std::mem::offset_of!(GlcolMeshDesc, struct_size) == 0);
+
+/// Reads a caller's struct (non-null, checked by the caller): INVALID_ARGUMENT when it is
+/// misaligned; then `struct_size` (its first field) first, since the rest may not be there;
+/// then, if it is one of `T::SIZES`, that many bytes over `T`'s defaults: the fields an older
+/// struct lacks keep their defaults and nothing past `struct_size` is read.
 ///
 /// # Safety
-/// `p` is non-null and aligned (checked by the caller), and points to readable memory of
-/// at least 4 bytes, and of as many bytes as its first 4 bytes say when that is one of
-/// `sizes`. Every size in `sizes` ends at a field boundary of `T`, and the bytes of those
-/// fields, as C initialised them, are valid values of the fields' types.
-pub(super) unsafe fn read_desc<T: Copy>(
-    p: *const T,
-    struct_size: *const u32,
-    what: &str,
-    sizes: &[(usize, &str)],
-    defaults: T,
-) -> Result<T, Fail> {
-    // SAFETY: `struct_size` is the first field of `*p` (offset 0, so in bounds and aligned
-    // as `p` is): an aligned read of the 4 bytes every version of the struct has.
-    let got = unsafe { struct_size.read() };
-    let n = check_struct_size(got, sizes, what)?;
+/// `p` is non-null and points to readable memory of at least 4 bytes, and of as many bytes
+/// as its first 4 bytes say when that is one of `T::SIZES`. The bytes of those fields, as C
+/// initialised them, are valid values of the fields' types.
+pub(super) unsafe fn read_desc<T: Desc>(p: *const T) -> Result<T, Fail> {
+    aligned(p, "desc")?;
+    // SAFETY: `struct_size` is the first field of `*p` (offset 0, asserted above; so in
+    // bounds and aligned as `p` is): an aligned read of the 4 bytes every version has.
+    let got = unsafe { p.cast::<u32>().read() };
+    let n = check_struct_size(got, T::SIZES, T::NAME)?;
     debug_assert!(n <= std::mem::size_of::<T>());
-    let mut out = defaults;
+    let mut out = T::defaults();
     // SAFETY: the caller's struct holds `n` readable bytes (its struct_size says so and `n`
-    // is one of `sizes`); `out` is a distinct local `T` of at least `n` bytes; the first
-    // `n` bytes are whole fields of `T` (the caller's contract), so `out` stays valid.
+    // is one of `T::SIZES`); `out` is a distinct local `T` of at least `n` bytes; the first
+    // `n` bytes are whole fields of `T`, so `out` stays valid.
     unsafe { std::ptr::copy_nonoverlapping(p.cast::<u8>(), std::ptr::addr_of_mut!(out).cast(), n) };
     Ok(out)
 }
@@ -55,55 +89,54 @@ fn check_struct_size(got: u32, sizes: &[(usize, &str)], what: &str) -> Result<us
     if let Some(&(n, _)) = sizes.iter().find(|&&(n, _)| n == got as usize) {
         return Ok(n);
     }
-    let want = sizes
-        .iter()
-        .map(|&(n, note)| format!("{n} ({note})"))
-        .collect::<Vec<_>>()
-        .join(" or ");
     Err(invalid(format!(
-        "{what}.struct_size is {got}, expected {want}; call the _init function or set it"
+        "{what}.struct_size is {got}, expected {}; call the _init function or set it",
+        wanted(sizes)
     )))
 }
 
-/// The `_init_sized` functions: `defaults` (with `struct_size` set to `size` by
-/// `set_size`) written as a struct of `size` bytes, which must be one of `sizes` (else
-/// INVALID_ARGUMENT naming them and `what`, nothing written). Nothing past `size` bytes is
-/// written.
+/// The sizes accepted, for a message: "56 (this) or 48 (0.1's)".
+fn wanted(sizes: &[(usize, &str)]) -> String {
+    sizes
+        .iter()
+        .map(|&(n, note)| format!("{n} ({note})"))
+        .collect::<Vec<_>>()
+        .join(" or ")
+}
+
+/// The `_init_sized` functions: `T`'s defaults (with `struct_size` set to `size`) written as
+/// a struct of `size` bytes, which must be one of `T::SIZES` (else INVALID_ARGUMENT naming
+/// them, nothing written). Nothing past `size` bytes is written.
 ///
 /// # Safety
-/// `desc` is NULL or points to writable memory of `size` bytes; every size in `sizes` ends
-/// at a field boundary of `T`.
-pub(super) unsafe fn init_sized<T>(
-    desc: *mut T,
-    size: usize,
-    sizes: &[(usize, &str)],
-    mut defaults: T,
-    set_size: impl FnOnce(&mut T, u32),
-    what: &str,
-) -> FfiResult {
+/// `desc` is NULL or points to writable memory of `size` bytes.
+pub(super) unsafe fn init_sized<T: Desc>(desc: *mut T, size: usize) -> FfiResult {
     non_null(desc, "desc")?;
     aligned(desc, "desc")?;
-    let Some(&(n, _)) = sizes.iter().find(|&&(n, _)| n == size) else {
-        let want = sizes
-            .iter()
-            .map(|&(n, note)| format!("{n} ({note})"))
-            .collect::<Vec<_>>()
-            .join(" or ");
+    let Some(&(n, _)) = T::SIZES.iter().find(|&&(n, _)| n == size) else {
         return Err(invalid(format!(
-            "size is {size}, expected {want}: pass sizeof({what})"
+            "size is {size}, expected {}: pass sizeof({})",
+            wanted(T::SIZES),
+            T::NAME
         )));
     };
-    set_size(&mut defaults, n as u32);
+    let mut defaults = T::defaults();
+    defaults.set_size(n as u32);
     // SAFETY: non-null and aligned (checked); the caller's contract: `size` == `n` writable
-    // bytes; `n` is one of `sizes`, a prefix of whole fields of `defaults` (a distinct local).
+    // bytes; `n` is one of `T::SIZES`, a prefix of whole fields of `defaults` (a local).
     unsafe {
         std::ptr::copy_nonoverlapping(std::ptr::addr_of!(defaults).cast::<u8>(), desc.cast(), n)
     };
     Ok(())
 }
 
+/// The size of `T` in the oldest version (0.1): what the exported `_init` symbols fill.
+pub(super) fn oldest_size<T: Desc>() -> usize {
+    T::SIZES[T::SIZES.len() - 1].0
+}
+
 /// `GlcolSceneDesc` sizes accepted: this version's, and 0.1's (which ends before `threads`).
-pub(super) const SCENE_DESC_SIZES: [(usize, &str); 2] = [
+const SCENE_DESC_SIZES: [(usize, &str); 2] = [
     (
         std::mem::size_of::<GlcolSceneDesc>(),
         "sizeof(GlcolSceneDesc) of this glcollide",
@@ -116,7 +149,7 @@ pub(super) const SCENE_DESC_SIZES: [(usize, &str); 2] = [
 
 /// `GlcolMeshDesc` sizes accepted: this version's, and 0.1's (which ends before
 /// `positions_f64`).
-pub(super) const MESH_DESC_SIZES: [(usize, &str); 2] = [
+const MESH_DESC_SIZES: [(usize, &str); 2] = [
     (
         std::mem::size_of::<GlcolMeshDesc>(),
         "sizeof(GlcolMeshDesc) of this glcollide",
@@ -128,7 +161,7 @@ pub(super) const MESH_DESC_SIZES: [(usize, &str); 2] = [
 ];
 
 /// The defaults `glcol_scene_desc_init` writes.
-pub(super) fn scene_desc_defaults() -> GlcolSceneDesc {
+fn scene_desc_defaults() -> GlcolSceneDesc {
     GlcolSceneDesc {
         struct_size: std::mem::size_of::<GlcolSceneDesc>() as u32,
         backend: GlcolBackend::Auto as u32,
@@ -141,7 +174,7 @@ pub(super) fn scene_desc_defaults() -> GlcolSceneDesc {
 }
 
 /// The defaults `glcol_mesh_desc_init` writes.
-pub(super) fn mesh_desc_defaults() -> GlcolMeshDesc {
+fn mesh_desc_defaults() -> GlcolMeshDesc {
     GlcolMeshDesc {
         struct_size: std::mem::size_of::<GlcolMeshDesc>() as u32,
         positions: std::ptr::null(),

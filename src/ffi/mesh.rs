@@ -1,11 +1,9 @@
 //! A scene's meshes: creating, moving, placing, filtering, destroying them, and binding
 //! them to host GL buffers.
 
-use super::desc::{
-    aligned, init_sized, mesh_desc_defaults, positions, read_desc, Coordinate, MESH_DESC_SIZES,
-};
+use super::desc::{init_sized, oldest_size, positions, read_desc, Coordinate};
 use super::guard::{guard, invalid, non_null, FfiResult};
-use super::scene::{scene_mut, GlcolScene};
+use super::scene::{on_scene, scene_mut, GlcolScene};
 use super::types::*;
 use crate::{Mesh, Positions, Scene};
 
@@ -24,16 +22,7 @@ use crate::{Mesh, Positions, Scene};
 pub unsafe extern "C" fn glcol_mesh_desc_init(desc: *mut GlcolMeshDesc) {
     // SAFETY: the caller's contract: NULL or writable for 0.1's size. A NULL (or
     // misaligned) `desc` is ignored: nothing is written, and no message is set.
-    let _ = unsafe {
-        init_sized(
-            desc,
-            MESH_DESC_SIZES[1].0,
-            &MESH_DESC_SIZES,
-            mesh_desc_defaults(),
-            |d, n| d.struct_size = n,
-            "GlcolMeshDesc",
-        )
-    };
+    let _ = unsafe { init_sized(desc, oldest_size::<GlcolMeshDesc>()) };
 }
 
 /// Fills a `GlcolMeshDesc` of `size` bytes (`sizeof(GlcolMeshDesc)` of the header the
@@ -52,16 +41,7 @@ pub unsafe extern "C" fn glcol_mesh_desc_init_sized(
 ) -> GlcolStatus {
     guard(|| {
         // SAFETY: the caller's contract: NULL (refused) or `size` writable bytes.
-        unsafe {
-            init_sized(
-                desc,
-                size,
-                &MESH_DESC_SIZES,
-                mesh_desc_defaults(),
-                |d, n| d.struct_size = n,
-                "GlcolMeshDesc",
-            )
-        }
+        unsafe { init_sized(desc, size) }
     })
 }
 
@@ -97,25 +77,16 @@ pub unsafe extern "C" fn glcol_mesh_create(
         let s = unsafe { scene_mut(scene) }?;
         non_null(desc, "desc")?;
         non_null(out_id, "out_id")?;
-        aligned(desc, "desc")?;
-        // SAFETY: `desc` is non-null and aligned (checked), readable for struct_size bytes
-        // (the caller's contract); addr_of! makes no reference to the whole struct.
-        let d = unsafe {
-            read_desc(
-                desc,
-                std::ptr::addr_of!((*desc).struct_size),
-                "GlcolMeshDesc",
-                &MESH_DESC_SIZES,
-                mesh_desc_defaults(),
-            )
-        }?;
+        // SAFETY: `desc` is non-null (checked), readable for struct_size bytes (the caller's
+        // contract; a misaligned one is refused first).
+        let d = unsafe { read_desc(desc) }?;
         let k = d.vertices_per_polygon;
         if k != 3 && k != 4 {
             return Err(invalid(format!(
                 "vertices_per_polygon is {k}; it must be 3 or 4"
             )));
         }
-        let old = d.struct_size as usize == MESH_DESC_SIZES[1].0;
+        let old = d.struct_size as usize == oldest_size::<GlcolMeshDesc>();
         if old {
             non_null(d.positions, "positions")?;
         } else if d.positions.is_null() == d.positions_f64.is_null() {
@@ -416,11 +387,8 @@ pub unsafe extern "C" fn glcol_mesh_clear_target(
     scene: *mut GlcolScene,
     mesh: GlcolMeshId,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        Ok(s.scene.clear_target(mesh)?)
-    })
+    // SAFETY: the caller's contract: NULL (refused) or a live scene.
+    unsafe { on_scene(scene, |s| s.clear_target(mesh)) }
 }
 
 /// Enables or disables a mesh. A disabled mesh costs nothing in a query and has no
@@ -434,11 +402,8 @@ pub unsafe extern "C" fn glcol_mesh_set_enabled(
     mesh: GlcolMeshId,
     enabled: bool,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        Ok(s.scene.set_enabled(mesh, enabled)?)
-    })
+    // SAFETY: the caller's contract: NULL (refused) or a live scene.
+    unsafe { on_scene(scene, |s| s.set_enabled(mesh, enabled)) }
 }
 
 /// Removes a mesh from the scene. Its id is never reused.
@@ -450,11 +415,8 @@ pub unsafe extern "C" fn glcol_mesh_destroy(
     scene: *mut GlcolScene,
     mesh: GlcolMeshId,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        Ok(s.scene.destroy_mesh(mesh)?)
-    })
+    // SAFETY: the caller's contract: NULL (refused) or a live scene.
+    unsafe { on_scene(scene, |s| s.destroy_mesh(mesh)) }
 }
 
 /// Whole-scene queries (`glcol_query_all`) also collide `mesh` with itself when `on` (off
@@ -473,11 +435,8 @@ pub unsafe extern "C" fn glcol_mesh_set_self_collision(
     mesh: GlcolMeshId,
     on: bool,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        Ok(s.scene.set_self_collision(mesh, on)?)
-    })
+    // SAFETY: the caller's contract: NULL (refused) or a live scene.
+    unsafe { on_scene(scene, |s| s.set_self_collision(mesh, on)) }
 }
 
 /// Pair filtering: two different meshes a and b are collided (by `glcol_query` and
@@ -494,11 +453,8 @@ pub unsafe extern "C" fn glcol_mesh_set_filter(
     group: u32,
     mask: u32,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        Ok(s.scene.set_filter(mesh, group, mask)?)
-    })
+    // SAFETY: the caller's contract: NULL (refused) or a live scene.
+    unsafe { on_scene(scene, |s| s.set_filter(mesh, group, mask)) }
 }
 
 /// Places `mesh` rigidly (or affinely): `m` is a row-major 3x4 matrix and a vertex's world
@@ -595,9 +551,6 @@ pub unsafe extern "C" fn glcol_mesh_bind_gl_buffer(
     offset: usize,
     stride: usize,
 ) -> GlcolStatus {
-    guard(|| {
-        // SAFETY: the caller's contract: NULL (refused) or a live scene.
-        let s = unsafe { scene_mut(scene) }?;
-        Ok(s.scene.bind_gl_buffer(mesh, gl_buffer, offset, stride)?)
-    })
+    // SAFETY: the caller's contract: NULL (refused) or a live scene.
+    unsafe { on_scene(scene, |s| s.bind_gl_buffer(mesh, gl_buffer, offset, stride)) }
 }

@@ -1,6 +1,6 @@
 //! `GlcolScene`: making, asking about and destroying a scene.
 
-use super::desc::{aligned, init_sized, read_desc, scene_desc_defaults, SCENE_DESC_SIZES};
+use super::desc::{init_sized, oldest_size, read_desc};
 use super::guard::{guard, guard_or, invalid, non_null, Fail};
 use super::types::*;
 use std::ffi::CStr;
@@ -56,6 +56,22 @@ pub(super) unsafe fn scene_mut<'a>(p: *mut GlcolScene) -> Result<&'a mut GlcolSc
     Ok(unsafe { &mut *p })
 }
 
+/// A C function's whole body when it is one call of the Rust API on the scene: NULL_POINTER
+/// for a NULL scene, else `f`'s outcome as a status (and message).
+///
+/// # Safety
+/// `p` is NULL or a live scene that nothing else uses during the call.
+pub(super) unsafe fn on_scene(
+    p: *mut GlcolScene,
+    f: impl FnOnce(&mut Scene) -> crate::Result<()>,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(p) }?;
+        Ok(f(&mut s.scene)?)
+    })
+}
+
 /// The scene behind a const pointer, or `NULL_POINTER`.
 ///
 /// # Safety
@@ -86,16 +102,7 @@ const MAX_THREADS: u32 = 1024;
 pub unsafe extern "C" fn glcol_scene_desc_init(desc: *mut GlcolSceneDesc) {
     // SAFETY: the caller's contract: NULL or writable for 0.1's size. A NULL (or
     // misaligned) `desc` is ignored: nothing is written, and no message is set.
-    let _ = unsafe {
-        init_sized(
-            desc,
-            SCENE_DESC_SIZES[1].0,
-            &SCENE_DESC_SIZES,
-            scene_desc_defaults(),
-            |d, n| d.struct_size = n,
-            "GlcolSceneDesc",
-        )
-    };
+    let _ = unsafe { init_sized(desc, oldest_size::<GlcolSceneDesc>()) };
 }
 
 /// Fills a `GlcolSceneDesc` of `size` bytes (`sizeof(GlcolSceneDesc)` of the header the
@@ -114,16 +121,7 @@ pub unsafe extern "C" fn glcol_scene_desc_init_sized(
 ) -> GlcolStatus {
     guard(|| {
         // SAFETY: the caller's contract: NULL (refused) or `size` writable bytes.
-        unsafe {
-            init_sized(
-                desc,
-                size,
-                &SCENE_DESC_SIZES,
-                scene_desc_defaults(),
-                |d, n| d.struct_size = n,
-                "GlcolSceneDesc",
-            )
-        }
+        unsafe { init_sized(desc, size) }
     })
 }
 
@@ -172,18 +170,9 @@ pub unsafe extern "C" fn glcol_scene_create(
     guard(|| {
         non_null(desc, "desc")?;
         non_null(out_scene, "out_scene")?;
-        aligned(desc, "desc")?;
-        // SAFETY: `desc` is non-null and aligned (checked), readable for struct_size bytes
-        // (the caller's contract); addr_of! makes no reference to the whole struct.
-        let d = unsafe {
-            read_desc(
-                desc,
-                std::ptr::addr_of!((*desc).struct_size),
-                "GlcolSceneDesc",
-                &SCENE_DESC_SIZES,
-                scene_desc_defaults(),
-            )
-        }?;
+        // SAFETY: `desc` is non-null (checked), readable for struct_size bytes (the caller's
+        // contract; a misaligned one is refused first).
+        let d = unsafe { read_desc(desc) }?;
         let request = GlcolBackend::request(d.backend).ok_or_else(|| {
             invalid(format!(
                 "backend is {}; it must be a GlcolBackend value (0 to {})",

@@ -122,6 +122,15 @@ impl Aabb {
     }
 }
 
+/// `a + b` as the rounded sum and its exact error (Knuth's two-sum; contact geometry's
+/// error-free arithmetic and the continuous filter's rounding).
+#[inline(always)]
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
 /// The smallest `f32` at or above `x` (not NaN); `+inf` above `f32::MAX`.
 #[inline]
 pub fn f32_up(x: f64) -> f32 {

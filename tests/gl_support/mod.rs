@@ -149,6 +149,24 @@ pub unsafe extern "C" fn get_proc_address(_user: *mut c_void, name: *const c_cha
     }
 }
 
+/// A host buffer object (GL_ARRAY_BUFFER data, static) holding `pos` packed, three floats a
+/// vertex: what the tests bind meshes to. The current context's; the binding is restored
+/// to none.
+pub fn host_buffer(g: &glow::Context, pos: &[[f32; 3]]) -> glow::NativeBuffer {
+    use glow::HasContext;
+    // SAFETY: a test's context is current on this thread; the buffer is made here, and the
+    // bytes are `pos`'s own (`[f32; 3]` has no padding).
+    unsafe {
+        let h = g.create_buffer().unwrap();
+        let bytes =
+            std::slice::from_raw_parts(pos.as_ptr().cast::<u8>(), std::mem::size_of_val(pos));
+        g.bind_buffer(glow::ARRAY_BUFFER, Some(h));
+        g.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+        g.bind_buffer(glow::ARRAY_BUFFER, None);
+        h
+    }
+}
+
 /// The same loader for the Rust API (`Scene::with_backend`, `GlLoader`).
 pub fn gl_loader(name: &CStr) -> *const c_void {
     match egl() {

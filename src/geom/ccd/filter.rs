@@ -30,20 +30,13 @@
 
 use super::predicate::{meets, separated, Kind, Signs};
 use super::{Points, Toi};
+use crate::geom::two_sum;
 
 /// An interval `[lo, hi]` of reals.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Iv {
     pub(super) lo: f64,
     pub(super) hi: f64,
-}
-
-/// `a + b` and its exact error (Knuth's two-sum).
-#[inline(always)]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
 }
 
 /// `a + b` rounded down.

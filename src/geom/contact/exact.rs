@@ -4,13 +4,7 @@
 use super::V;
 use crate::geom::predicates::P3;
 
-/// `a + b` as the rounded sum and its exact error (Knuth).
-#[inline(always)]
-pub(super) fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
+pub(super) use crate::geom::two_sum;
 
 /// `a b` as the rounded product and its exact error (a fused multiply-add: one
 /// instruction where the CPU has it, a correctly rounded library call elsewhere).
