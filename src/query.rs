@@ -11,6 +11,7 @@ use crate::backend::{
 use crate::error::Result;
 
 pub mod all;
+pub mod continuous;
 
 pub use crate::backend::{Contact, QueryStats};
 

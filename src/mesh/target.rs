@@ -153,6 +153,30 @@ impl Mesh {
         Some(m.map_or(local, |m| m.apply_f64(&local)))
     }
 
+    /// The world positions of every slot at the start (t = 0) and, when the mesh has a
+    /// target, at the end (t = 1) into `start` and `end` (`end` left empty when the mesh
+    /// stands still). The same values as [`Mesh::world_position`] and
+    /// [`Mesh::end_world_position`] give for each slot's vertex.
+    pub(crate) fn step_positions(&self, start: &mut Vec<P3>, end: &mut Vec<P3>) {
+        let n = self.slots.len();
+        start.clear();
+        start.extend((0..n).map(|s| self.world(s)));
+        end.clear();
+        let Some(t) = &self.target else {
+            return;
+        };
+        let m = t.transform.as_ref().or(self.place.as_ref().map(|p| &p.m));
+        end.extend((0..n).map(|s| {
+            let v = self.slot_vertex[s] as usize;
+            let local = match &t.end {
+                End::F32(runs) => find(runs, v).map(|p| widen(&p)),
+                End::F64(runs) => find(runs, v),
+            }
+            .unwrap_or_else(|| self.local(s));
+            m.map_or(local, |m| m.apply_f64(&local))
+        }));
+    }
+
     /// The matrix at t = 1 other than the identity: the target transform if set, else the
     /// current one.
     fn end_matrix(&self) -> Option<&Affine> {

@@ -14,9 +14,10 @@
 //!   (`workers.rs`); the answer is the same for every thread count.
 //!
 //! Files: `mod.rs` the planner and the reference query; `all.rs` the whole-scene query;
-//! `geometry.rs` the contact geometry of an answer; `workers.rs` the worker threads.
+//! `continuous.rs` the continuous query; `geometry.rs` the contact geometry of an answer; `workers.rs` the worker threads.
 
 mod all;
+mod continuous;
 mod geometry;
 mod workers;
 
@@ -29,6 +30,7 @@ use crate::error::{Error, ErrorKind, Result};
 use crate::mesh::Mesh;
 use crate::mesh::MeshId;
 use crate::query::all::{AllStats, BroadPhase, SelfPrep};
+use crate::query::continuous::{Broad, ContinuousStats, LeafPair, SweptMesh};
 use crate::query::{self, QueryStats, Workspace};
 use workers::Workers;
 
@@ -43,6 +45,12 @@ pub(crate) struct Planner {
     self_preps: Vec<SelfPrep>,
     /// Stages of the last whole-scene query.
     all_stats: AllStats,
+    /// The continuous query's meshes over the step, leaf pairs and broad-phase scratch,
+    /// kept from query to query.
+    swept: Vec<SweptMesh>,
+    leaf_pairs: Vec<LeafPair>,
+    continuous_broad: Broad,
+    continuous_stats: ContinuousStats,
 }
 
 impl Planner {
@@ -55,6 +63,10 @@ impl Planner {
             broad: BroadPhase::default(),
             self_preps: Vec::new(),
             all_stats: AllStats::default(),
+            swept: Vec::new(),
+            leaf_pairs: Vec::new(),
+            continuous_broad: Broad::default(),
+            continuous_stats: ContinuousStats::default(),
         }
     }
 

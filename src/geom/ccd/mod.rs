@@ -26,11 +26,13 @@
 mod exact;
 mod filter;
 mod poly;
+mod polygons;
 mod predicate;
 #[cfg(test)]
 mod tests;
 
 use super::P3;
+pub use polygons::{polygons_first_meet, First, MovingPolygon};
 use predicate::Kind;
 
 /// A time of impact.

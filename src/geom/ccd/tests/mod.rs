@@ -9,6 +9,7 @@
 
 mod adversarial;
 mod bench;
+mod polygons;
 mod reference;
 mod truth;
 
