@@ -33,6 +33,9 @@
 // and normal is polygon a's normal).
 #define GLCOL_CONTACT_COPLANAR (1 << 1)
 
+// `GlcolImpact::flags`: the pair already meets at t = 0 (its toi is 0). Added in 0.3.
+#define GLCOL_IMPACT_AT_START (1 << 0)
+
 // How a call went. Values are ABI: never renumber; new values are appended.
 typedef enum GlcolStatus {
   // Success.
@@ -218,6 +221,25 @@ typedef struct GlcolContactGeometry {
   // GLCOL_CONTACT_* bits.
   uint32_t flags;
 } GlcolContactGeometry;
+
+// One pair of `glcol_query_continuous`: two polygons that meet at some time of the step,
+// ordered and sorted as `GlcolPair`s, and when first. Added in 0.3.
+typedef struct GlcolImpact {
+  // The lower mesh id.
+  GlcolMeshId mesh_a;
+  // Polygon index in `mesh_a`.
+  uint32_t polygon_a;
+  // The higher mesh id, or `mesh_a` for a self-collision pair.
+  GlcolMeshId mesh_b;
+  // Polygon index in `mesh_b` (above polygon_a when the meshes are one).
+  uint32_t polygon_b;
+  // The earliest time in [0, 1] at which the pair meets, as a certified lower bound:
+  // never later than the exact time, at most 2^-20 earlier; exactly 0 with
+  // GLCOL_IMPACT_AT_START when the pair meets at t = 0.
+  double toi;
+  // GLCOL_IMPACT_* bits.
+  uint32_t flags;
+} GlcolImpact;
 
 // A triangle mesh read by `glcol_obj_load` (arrays owned by the library until
 // `glcol_obj_free`).
@@ -688,6 +710,33 @@ enum GlcolStatus glcol_query_all(struct GlcolScene *scene,
 enum GlcolStatus glcol_query_geometry(struct GlcolScene *scene,
                                       const struct GlcolContactGeometry **out_geometry,
                                       size_t *out_count);
+
+// Continuous detection over the step from every mesh's current state (t = 0) to its target
+// (t = 1; see glcol_mesh_set_target_positions; a mesh without one stands still), each
+// vertex on the straight line between its start and end world positions: every pair that
+// glcol_query_all would report at SOME time t in [0, 1], with the same pairs taken into
+// account (enabled meshes, filters, self-collision, the adjacency rule applied at each t),
+// each pair once, with its earliest time toi (a certified lower bound: never later than
+// the exact time, at most 2^-20 earlier; 0 with GLCOL_IMPACT_AT_START exactly when the
+// pair meets at t = 0). Exact at epsilon 0 for the double world positions, degenerate
+// polygons and motions included. For adjacent polygons (a vertex index in common) after
+// t = 0: a vertex of one that the other does not have meets the other, or an edge of one
+// meets an edge of the other with which it shares no vertex (this differs from the
+// point-set rule only when such a feature meets the other polygon exactly at a shared
+// vertex's position). On success `*out_impacts` points at `*out_count` impacts sorted by
+// (mesh_a, polygon_a, mesh_b, polygon_b) (NULL when 0), owned by the scene as
+// glcol_query_all's pairs (valid until the next non-const call on it). The same answer for
+// every backend (it runs on the CPU), thread count and creation order. Epsilon > 0 (the
+// distance band): GLCOL_STATUS_UNSUPPORTED in this version. A GL backend with an enabled
+// mesh bound to a host GL buffer: GLCOL_STATUS_UNSUPPORTED. On failure nothing is
+// written and the last answer stays as it was. Added in 0.3.
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_impacts` and `out_count` are NULL or writable and
+// aligned.
+enum GlcolStatus glcol_query_continuous(struct GlcolScene *scene,
+                                        const struct GlcolImpact **out_impacts,
+                                        size_t *out_count);
 
 // Reads a Wavefront OBJ file (`v` and `f` lines; larger faces split into triangle fans)
 // for examples and tests. On success `*out` owns arrays to release with `glcol_obj_free`.

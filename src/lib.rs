@@ -68,7 +68,7 @@ pub use gpu::Lookup as GlLoader;
 pub use mesh::{Mesh, Positions};
 pub use obj::ObjMesh;
 pub use query::all::AllStats;
-pub use query::continuous::{ContinuousStats, Impact, IMPACT_AT_START};
+pub use query::continuous::{ContinuousStats, Impact};
 pub use scene::{MeshId, Scene, SceneConfig};
 
 // The one list of each concept, for the C layer's tables (see `ffi::tables`).

@@ -488,7 +488,7 @@ impl Scene {
     /// would report at *some* time in `[0, 1]` (the same meshes, filters, self-collision,
     /// the adjacency rule at each time), each once, sorted as `query_all`'s pairs, with
     /// its earliest time `toi` as a certified lower bound (never late, at most `2^-20`
-    /// early; 0 with [`IMPACT_AT_START`](crate::IMPACT_AT_START) exactly when the pair
+    /// early; 0 with [`Impact::at_start`] exactly when the pair
     /// meets at the start). Exact at epsilon 0 for the double world positions; the same
     /// answer for every backend (it runs on the CPU), thread count and mesh creation
     /// order. Unsupported on a GL backend when an enabled mesh reads its positions from

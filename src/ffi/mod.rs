@@ -4,7 +4,8 @@
 //! `GLCOL_STATUS_INTERNAL`), and writes its outputs only on success.
 //!
 //! One file per C object, as rustls-ffi does over rustls: `scene.rs` (`GlcolScene`),
-//! `mesh.rs` (a scene's meshes), `query.rs` (queries and their answers), `obj.rs`
+//! `mesh.rs` (a scene's meshes), `query.rs` (queries and their answers), `continuous.rs`
+//! (the continuous query of a step and where its contacts happen), `obj.rs`
 //! (`GlcolObjMesh`); then `types.rs` (the C structs and enums cbindgen reads), `tables.rs`
 //! (the C enums against the core's lists), `desc.rs` (reading the caller's structs and
 //! arrays), `guard.rs` (statuses, the last error, panics).
@@ -23,6 +24,8 @@ mod mesh;
 
 mod query;
 
+mod continuous;
+
 mod obj;
 
 mod desc;
@@ -32,6 +35,7 @@ mod types;
 
 use std::ffi::c_char;
 
+pub use continuous::*;
 pub use mesh::*;
 pub use obj::*;
 pub use query::*;

@@ -42,6 +42,7 @@ pub struct GlcolScene {
     pub(super) contacts: Vec<GlcolContact>,
     pub(super) pairs: Vec<GlcolPair>,
     pub(super) geometry: Vec<GlcolContactGeometry>,
+    pub(super) impacts: Vec<GlcolImpact>,
 }
 
 /// The scene behind a pointer, or `NULL_POINTER`.
@@ -220,6 +221,7 @@ pub unsafe extern "C" fn glcol_scene_create(
             contacts: Vec::new(),
             pairs: Vec::new(),
             geometry: Vec::new(),
+            impacts: Vec::new(),
         }));
         // SAFETY: non-null (checked); the caller's contract: writable and aligned.
         unsafe { out_scene.write(scene) };

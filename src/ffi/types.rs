@@ -215,3 +215,27 @@ pub struct GlcolContactGeometry {
     /// GLCOL_CONTACT_* bits.
     pub flags: u32,
 }
+
+/// `GlcolImpact::flags`: the pair already meets at t = 0 (its toi is 0). Added in 0.3.
+pub const GLCOL_IMPACT_AT_START: u32 = 1 << 0;
+
+/// One pair of `glcol_query_continuous`: two polygons that meet at some time of the step,
+/// ordered and sorted as `GlcolPair`s, and when first. Added in 0.3.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlcolImpact {
+    /// The lower mesh id.
+    pub mesh_a: GlcolMeshId,
+    /// Polygon index in `mesh_a`.
+    pub polygon_a: u32,
+    /// The higher mesh id, or `mesh_a` for a self-collision pair.
+    pub mesh_b: GlcolMeshId,
+    /// Polygon index in `mesh_b` (above polygon_a when the meshes are one).
+    pub polygon_b: u32,
+    /// The earliest time in [0, 1] at which the pair meets, as a certified lower bound:
+    /// never later than the exact time, at most 2^-20 earlier; exactly 0 with
+    /// GLCOL_IMPACT_AT_START when the pair meets at t = 0.
+    pub toi: f64,
+    /// GLCOL_IMPACT_* bits.
+    pub flags: u32,
+}

@@ -19,9 +19,6 @@ use crate::geom::sweep::Sweep;
 use crate::geom::{f32_down, f32_up, Aabb, P3};
 use crate::mesh::{Mesh, MeshId};
 
-/// `Impact::flags`: the pair already meets at `t = 0` (its `toi` is 0).
-pub const IMPACT_AT_START: u32 = 1;
-
 /// A pair of polygons that meet during the step (see [`crate::Scene::query_continuous`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Impact {
@@ -37,8 +34,8 @@ pub struct Impact {
     /// never later than the exact time, at most `2^-20` earlier; 0 exactly when it meets
     /// at the start.
     pub toi: f64,
-    /// [`IMPACT_AT_START`] or 0.
-    pub flags: u32,
+    /// The pair already meets at `t = 0` (then `toi` is 0).
+    pub at_start: bool,
 }
 
 impl Impact {
@@ -277,7 +274,7 @@ pub fn narrow(
                         mesh_b: mb.id,
                         polygon_b: ib,
                         toi: toi.t,
-                        flags: if toi.at_start { IMPACT_AT_START } else { 0 },
+                        at_start: toi.at_start,
                     },
                     first,
                 ));

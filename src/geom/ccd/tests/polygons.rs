@@ -238,7 +238,7 @@ fn translating_scenes_against_the_reference() {
                 .map(|c| {
                     let (a, b) = ((rank(c.mesh_a), c.polygon_a), (rank(c.mesh_b), c.polygon_b));
                     let (a, b) = if a < b { (a, b) } else { (b, a) };
-                    (a, b, c.toi.to_bits(), c.flags)
+                    (a, b, c.toi.to_bits(), c.at_start)
                 })
                 .collect();
             mine.sort();

@@ -1,0 +1,430 @@
+//! Continuous detection (`Scene::query_continuous`, `glcol_query_continuous`):
+//!
+//! - what discrete frames miss: a blade through a membrane between two frames, a hinge
+//!   folding through itself (adjacent triangles), with the exact times known;
+//! - against the discrete exact answers of the step's two ends: the pairs flagged AT_START
+//!   are exactly `query_all`'s at the start, and every pair `query_all` reports at the end
+//!   is reported (real meshes, a real deformation);
+//! - the public ground truth of three real simulation steps (`../shared/meshes/sim/ccd`):
+//!   every true primitive contact, lifted to the polygons holding it, is reported;
+//! - the same bytes for every thread count; filters and disabled meshes; the C entry point
+//!   (NULL pointers, the band refused with a message, the answer the Rust one).
+//!
+//! The exactness against an independent rational reference (translating polygons and
+//! scenes, degenerate ones included) is in `src/geom/ccd/tests/polygons.rs`.
+
+mod common;
+
+use common::has_shared;
+use glcollide::ffi::*;
+use glcollide::{ErrorKind, Impact, MeshId, Positions, Scene, SceneConfig};
+use std::collections::{BTreeSet, HashMap};
+
+fn scene(threads: u32) -> Scene {
+    Scene::new(SceneConfig {
+        threads,
+        ..SceneConfig::default()
+    })
+    .unwrap()
+}
+
+/// `[lo, hi]` holds the reported time: never late, at most 2^-20 early.
+fn assert_toi(i: &Impact, exact: f64) {
+    assert!(
+        i.toi <= exact && i.toi >= exact - 2f64.powi(-20),
+        "toi {} for an exact first meeting at {exact}",
+        i.toi
+    );
+    assert!(!i.at_start);
+}
+
+#[test]
+fn a_blade_through_a_membrane_between_two_frames() {
+    let mut s = scene(1);
+    // A membrane (a quad) at z = 0, and a blade (a triangle) from z = 1 to z = -1 in one
+    // step: both frames are clean, the step crosses it at t = 1/2.
+    let membrane = s
+        .create_mesh(
+            Positions::from_points(&[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]),
+            &[0, 1, 2, 3],
+            4,
+        )
+        .unwrap();
+    let up = [[0.4, 0.4, 1.0], [0.6, 0.4, 1.0], [0.5, 0.6, 1.5]];
+    let blade = s
+        .create_mesh(Positions::from_points(&up), &[0, 1, 2], 3)
+        .unwrap();
+    let down = up.map(|p| [p[0], p[1], p[2] - 2.0]);
+    assert!(s.query_all().unwrap().is_empty(), "clean at the start");
+    s.set_target_positions(blade, 0, Positions::from_points(&down))
+        .unwrap();
+    let hits = s.query_continuous().unwrap().to_vec();
+    assert_eq!(hits.len(), 1, "{hits:?}");
+    assert_eq!((hits[0].mesh_a, hits[0].mesh_b), (membrane, blade));
+    assert_toi(&hits[0], 0.5);
+    // The target is not committed: the discrete query still sees the start.
+    assert!(s.query_all().unwrap().is_empty());
+    s.update_positions(blade, 0, Positions::from_points(&down))
+        .unwrap();
+    assert!(s.query_all().unwrap().is_empty(), "clean at the end");
+    // The update dropped the target: the scene stands still now.
+    assert!(s.query_continuous().unwrap().is_empty());
+    // The same through a target transform (an instrument that only moves).
+    s.update_positions(blade, 0, Positions::from_points(&up))
+        .unwrap();
+    let m = [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., -2.];
+    s.set_target_transform(blade, &m).unwrap();
+    let hits = s.query_continuous().unwrap().to_vec();
+    assert_eq!(hits.len(), 1);
+    assert_toi(&hits[0], 0.5);
+    // Disabled or filtered out: nothing, at no cost.
+    s.set_enabled(membrane, false).unwrap();
+    s.set_target_transform(blade, &m).unwrap();
+    assert!(s.query_continuous().unwrap().is_empty());
+    s.set_enabled(membrane, true).unwrap();
+    s.set_filter(membrane, 1, 0).unwrap();
+    s.set_target_transform(blade, &m).unwrap();
+    assert!(s.query_continuous().unwrap().is_empty());
+}
+
+/// Two triangles sharing the edge (0,0,0)-(1,0,0): the first in z = 0 (y > 0), the second's
+/// free vertex moving from `from` to `to`.
+fn hinge(from: [f64; 3], to: [f64; 3]) -> Vec<Impact> {
+    let mut s = scene(1);
+    let p = [[0., 0., 0.], [1., 0., 0.], [0.5, 1., 0.], from];
+    let m = s
+        .create_mesh(Positions::from_points_f64(&p), &[0, 1, 2, 0, 1, 3], 3)
+        .unwrap();
+    s.set_self_collision(m, true).unwrap();
+    s.set_target_positions_f64(m, 3, &[to]).unwrap();
+    s.query_continuous().unwrap().to_vec()
+}
+
+#[test]
+fn a_hinge_folding_through_itself() {
+    // Folding through its neighbour (coplanar and overlapping at t = 1/2).
+    let hits = hinge([0.5, 0.5, 1.0], [0.5, 0.5, -1.0]);
+    assert_eq!(hits.len(), 1, "{hits:?}");
+    assert_eq!((hits[0].polygon_a, hits[0].polygon_b), (0, 1));
+    assert_toi(&hits[0], 0.5);
+    // Opening the other way: in the plane at t = 1/2 only on the far side of the joint.
+    assert!(hinge([0.5, -0.5, 1.0], [0.5, -0.5, -1.0]).is_empty());
+    // Folding down onto the neighbour without passing (touching it at the end only).
+    let hits = hinge([0.5, 0.5, 1.0], [0.5, 0.5, 0.0]);
+    assert_eq!(hits.len(), 1);
+    assert_toi(&hits[0], 1.0);
+    // Standing still next to each other: adjacent, never reported.
+    assert!(hinge([0.5, -0.5, 1.0], [0.5, -0.5, 1.0]).is_empty());
+}
+
+/// Reads an OBJ's vertices as doubles (the simulation frames hold exact doubles, which the
+/// float OBJ reader would round) and its triangles.
+fn obj_f64(path: &str) -> (Vec<[f64; 3]>, Vec<u32>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let (mut v, mut f) = (Vec::new(), Vec::new());
+    for line in text.lines() {
+        let mut w = line.split_whitespace();
+        match w.next() {
+            Some("v") => {
+                let x: Vec<f64> = w.take(3).map(|t| t.parse().unwrap()).collect();
+                v.push([x[0], x[1], x[2]]);
+            }
+            Some("f") => {
+                f.extend(w.map(|t| t.split('/').next().unwrap().parse::<u32>().unwrap() - 1))
+            }
+            _ => {}
+        }
+    }
+    (v, f)
+}
+
+/// A simulation step of ../shared/meshes/sim: every part an f64 mesh at frame `n` with
+/// frame `n + 1` as its target, self-collision on. Returns the scene, the ids and each
+/// part's triangles.
+fn sim_step(name: &str, n: u32, threads: u32) -> (Scene, Vec<MeshId>, Vec<Vec<u32>>) {
+    let dir = format!("{}/../shared/meshes/sim/{name}", env!("CARGO_MANIFEST_DIR"));
+    let mut s = scene(threads);
+    let (mut ids, mut tris) = (Vec::new(), Vec::new());
+    for part in 0.. {
+        let at = |f: u32| format!("{dir}/frame{f}_part{part:02}.obj");
+        if !std::path::Path::new(&at(n)).exists() {
+            break;
+        }
+        let (p0, t) = obj_f64(&at(n));
+        let (p1, t1) = obj_f64(&at(n + 1));
+        assert_eq!(t, t1);
+        let id = s
+            .create_mesh(Positions::from_points_f64(&p0), &t, 3)
+            .unwrap();
+        s.set_self_collision(id, true).unwrap();
+        s.set_target_positions_f64(id, 0, &p1).unwrap();
+        ids.push(id);
+        tris.push(t);
+    }
+    (s, ids, tris)
+}
+
+const STEPS: [(&str, u32); 3] = [
+    ("cloth-funnel", 227),
+    ("rod-twist", 3036),
+    ("armadillo-rollers", 326),
+];
+
+/// Every true primitive contact of the ground truth's step, lifted to the polygons that
+/// hold its features, is a reported pair (except where the two features share a vertex
+/// of one part: no contact counts there).
+#[test]
+fn real_steps_report_every_true_primitive_contact() {
+    if !has_shared("meshes/sim/ccd") {
+        return;
+    }
+    for (name, n) in STEPS {
+        let (mut s, ids, tris) = sim_step(name, n, 0);
+        let found: BTreeSet<(MeshId, u32, MeshId, u32)> = s
+            .query_continuous()
+            .unwrap()
+            .iter()
+            .map(|i| (i.mesh_a, i.polygon_a, i.mesh_b, i.polygon_b))
+            .collect();
+        let st = s.continuous_stats();
+        // Polygons of each part holding each vertex.
+        let holding: Vec<HashMap<u32, Vec<u32>>> = tris
+            .iter()
+            .map(|t| {
+                let mut h: HashMap<u32, Vec<u32>> = HashMap::new();
+                for (p, c) in t.chunks(3).enumerate() {
+                    for &v in c {
+                        h.entry(v).or_default().push(p as u32);
+                    }
+                }
+                h
+            })
+            .collect();
+        let has = |part: usize, p: u32, v: u32| tris[part][3 * p as usize..][..3].contains(&v);
+        let pair = |pa: usize, a: u32, pb: usize, b: u32| {
+            let (x, y) = ((ids[pa], a), (ids[pb], b));
+            let (x, y) = if x < y { (x, y) } else { (y, x) };
+            (x.0, x.1, y.0, y.1)
+        };
+        let dir = format!(
+            "{}/../shared/meshes/sim/ccd/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let (mut checked, mut missing) = (0, Vec::new());
+        for kind in ["vf", "ee"] {
+            let text = std::fs::read_to_string(format!("{dir}/{n}{kind}_parts.tsv")).unwrap();
+            for line in text.lines().filter(|l| !l.starts_with('#')) {
+                let c: Vec<u32> = line
+                    .split('\t')
+                    .map(|x| x.trim().parse().unwrap())
+                    .collect();
+                if *c.last().unwrap() != 1 {
+                    continue;
+                }
+                let mut want = Vec::new();
+                if kind == "vf" {
+                    let (pv, v, pf, f) = (c[0] as usize, c[1], c[2] as usize, c[3]);
+                    if pv == pf && has(pf, f, v) {
+                        continue;
+                    }
+                    for &p in &holding[pv][&v] {
+                        if !(pv == pf && p == f) {
+                            want.push(pair(pv, p, pf, f));
+                        }
+                    }
+                } else {
+                    let (pa, a, pb, b) = (c[0] as usize, [c[1], c[2]], c[3] as usize, [c[4], c[5]]);
+                    if pa == pb && a.iter().any(|v| b.contains(v)) {
+                        continue;
+                    }
+                    let with_edge = |part: usize, e: [u32; 2]| -> Vec<u32> {
+                        holding[part][&e[0]]
+                            .iter()
+                            .copied()
+                            .filter(|&p| has(part, p, e[1]))
+                            .collect()
+                    };
+                    for p in with_edge(pa, a) {
+                        for q in with_edge(pb, b) {
+                            if !(pa == pb && p == q) {
+                                want.push(pair(pa, p, pb, q));
+                            }
+                        }
+                    }
+                }
+                for w in want {
+                    checked += 1;
+                    if !found.contains(&w) {
+                        missing.push((kind, line.to_string(), w));
+                    }
+                }
+            }
+        }
+        eprintln!(
+            "{name}: {} pairs reported, {checked} lifted true contacts checked, {} missing; \
+             {} leaf pairs, {} polygon pairs tested",
+            found.len(),
+            missing.len(),
+            st.leaf_pairs,
+            st.polygon_pairs
+        );
+        assert!(
+            missing.is_empty(),
+            "{name}: missing {:?}",
+            &missing[..missing.len().min(5)]
+        );
+        assert!(checked > 0);
+    }
+}
+
+/// The step's ends against the discrete exact query: AT_START pairs are exactly
+/// `query_all`'s at the start; `query_all`'s at the end are all reported. On a real mesh
+/// folding (bundled: a cloth-like sheet of the face mesh pushed through itself) and two
+/// bodies (the bunny moved through the teapot), threads 1 and 2 the same bytes.
+#[test]
+fn the_step_holds_both_ends_discrete_answers() {
+    let face = common::shared_mesh("face");
+    let bunny = common::shared_mesh("bunny");
+    let (lo, hi) = common::bounds(&face.positions);
+    let c: [f32; 3] = std::array::from_fn(|k| (lo[k] + hi[k]) / 2.0);
+    let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
+    // The face folded: points on one side of the middle plane pushed across it.
+    let folded: Vec<[f32; 3]> = face
+        .positions
+        .iter()
+        .map(|p| {
+            let mut q = *p;
+            if p[0] > c[0] {
+                // Mirrored over the middle, onto the other half, a little in front.
+                q[0] = c[0] - 0.9 * (p[0] - c[0]);
+                q[2] += 0.03 * size;
+            }
+            q
+        })
+        .collect();
+    let (blo, bhi) = common::bounds(&bunny.positions);
+    let bsize = (0..3).map(|k| bhi[k] - blo[k]).fold(0.0, f32::max);
+    let scale = 0.5 * size / bsize;
+    let place = |p: &[f32; 3], dx: f32| -> [f32; 3] {
+        std::array::from_fn(|k| (p[k] - blo[k]) * scale + lo[k] + if k == 0 { dx } else { 0.0 })
+    };
+    let b0: Vec<[f32; 3]> = bunny
+        .positions
+        .iter()
+        .map(|p| place(p, -0.3 * size))
+        .collect();
+    let b1: Vec<[f32; 3]> = bunny
+        .positions
+        .iter()
+        .map(|p| place(p, 0.2 * size))
+        .collect();
+    let mut answers = Vec::new();
+    for threads in [1, 2] {
+        let mut s = scene(threads);
+        let f = s
+            .create_mesh(Positions::from_points(&face.positions), &face.triangles, 3)
+            .unwrap();
+        let b = s
+            .create_mesh(Positions::from_points(&b0), &bunny.triangles, 3)
+            .unwrap();
+        s.set_self_collision(f, true).unwrap();
+        let start: BTreeSet<_> = s.query_all().unwrap().iter().copied().collect();
+        s.set_target_positions(f, 0, Positions::from_points(&folded))
+            .unwrap();
+        s.set_target_positions(b, 0, Positions::from_points(&b1))
+            .unwrap();
+        let step = s.query_continuous().unwrap().to_vec();
+        let key = |i: &Impact| (i.mesh_a, i.polygon_a, i.mesh_b, i.polygon_b);
+        let at_start: BTreeSet<_> = step
+            .iter()
+            .filter(|i| i.at_start)
+            .map(|i| glcollide::Pair {
+                mesh_a: i.mesh_a,
+                polygon_a: i.polygon_a,
+                mesh_b: i.mesh_b,
+                polygon_b: i.polygon_b,
+            })
+            .collect();
+        assert_eq!(at_start, start, "AT_START vs query_all at the start");
+        assert!(step
+            .iter()
+            .all(|i| (i.toi == 0.0) == i.at_start && (0.0..=1.0).contains(&i.toi)));
+        assert!(
+            step.windows(2).all(|w| key(&w[0]) < key(&w[1])),
+            "sorted, once each"
+        );
+        s.update_positions(f, 0, Positions::from_points(&folded))
+            .unwrap();
+        s.update_positions(b, 0, Positions::from_points(&b1))
+            .unwrap();
+        let end = s.query_all().unwrap().to_vec();
+        let all: BTreeSet<_> = step.iter().map(key).collect();
+        let lost: Vec<_> = end
+            .iter()
+            .filter(|p| !all.contains(&(p.mesh_a, p.polygon_a, p.mesh_b, p.polygon_b)))
+            .collect();
+        assert!(
+            lost.is_empty(),
+            "pairs of the end not in the step: {lost:?}"
+        );
+        eprintln!(
+            "threads {threads}: {} pairs in the step ({} at the start, {} at the end)",
+            step.len(),
+            start.len(),
+            end.len()
+        );
+        assert!(end.len() > start.len() && step.len() > end.len());
+        // Mesh ids differ between the scenes: compared as face = 0, bunny = 1.
+        let rank = |id: MeshId| u32::from(id == b);
+        answers.push(
+            step.iter()
+                .map(|i| {
+                    let (a, _, c, _) = key(i);
+                    (
+                        (rank(a), i.polygon_a, rank(c), i.polygon_b),
+                        i.toi.to_bits(),
+                        i.at_start,
+                    )
+                })
+                .collect::<Vec<_>>(),
+        );
+    }
+    assert!(answers[0] == answers[1], "threads 1 and 2 differ");
+}
+
+#[test]
+fn the_c_entry_point() {
+    // SAFETY: valid pointers throughout; the scene is destroyed at the end.
+    unsafe {
+        let mut d = std::mem::zeroed::<GlcolSceneDesc>();
+        glcol_scene_desc_init_sized(&mut d, std::mem::size_of::<GlcolSceneDesc>());
+        d.threads = 1;
+        let mut scene = std::ptr::null_mut();
+        assert_eq!(glcol_scene_create(&d, &mut scene), GlcolStatus::Ok);
+        let (mut out, mut n) = (std::ptr::null(), usize::MAX);
+        assert_eq!(
+            glcol_query_continuous(std::ptr::null_mut(), &mut out, &mut n),
+            GlcolStatus::NullPointer
+        );
+        assert_eq!(
+            glcol_query_continuous(scene, std::ptr::null_mut(), &mut n),
+            GlcolStatus::NullPointer
+        );
+        assert_eq!(n, usize::MAX, "nothing written on failure");
+        assert_eq!(
+            glcol_query_continuous(scene, &mut out, &mut n),
+            GlcolStatus::Ok
+        );
+        assert_eq!((out, n), (std::ptr::null(), 0));
+        glcol_scene_destroy(scene);
+    }
+    // The band is refused with a message, nothing else changed.
+    let mut s = Scene::new(SceneConfig {
+        epsilon: 0.01,
+        ..SceneConfig::default()
+    })
+    .unwrap();
+    let e = s.query_continuous().unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Unsupported);
+    assert!(e.message.contains("epsilon"), "{e}");
+}
