@@ -12,8 +12,8 @@
 #    tois with glcollide's certified ones;
 # 4. prints one markdown table of both.
 # Both sides time the same way: the thread's CPU time, best of 3 runs of the whole set, each
-# run repeated for at least 0.2 s. About 75 s once built (TI takes milliseconds on many of
-# these near-contact queries); no timing is asserted.
+# run repeated for at least 0.2 s. About 70 s of CPU once built, 1.5 min on a loaded 2-core VM
+# (TI takes milliseconds on many of these near-contact queries); no timing is asserted.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 truth=../shared/meshes/sim/ccd
