@@ -99,3 +99,52 @@ fn primitive_tests_per_query() {
         }
     }
 }
+
+/// glcollide's columns of `scripts/bench-ccd-peers.sh`'s table, beside Tight-Inclusion's
+/// (ignored: the script runs it): one tab-separated line per scene and kind, after
+/// `ccd-peers`: queries, true, ns per query (the whole set, timed as above), false positives
+/// and false negatives against the truth, and how many the float filter decided. With
+/// `CCD_TOI_DIR` set, also writes every query's toi there (`<scene>_<vf|ee>.toi`, one line a
+/// query, `-` when apart) for the peer's driver, which compares its tois with these
+/// (certified within `2^-20` below the exact earliest time).
+#[test]
+#[ignore = "timing: run by scripts/bench-ccd-peers.sh"]
+fn peer_columns() {
+    if !has_truth("peer_columns") {
+        return;
+    }
+    let toi_dir = std::env::var_os("CCD_TOI_DIR").map(std::path::PathBuf::from);
+    for &(scene, frame, csv_ee) in &SCENES {
+        for kind in [Kind::VertexFace, Kind::EdgeEdge] {
+            let tag = if kind == Kind::VertexFace { "vf" } else { "ee" };
+            let qs = load(scene, frame, csv_ee, kind);
+            let answers: Vec<_> = qs.iter().map(|q| decide(kind, &q.pts)).collect();
+            let (mut trues, mut fp, mut fn_, mut filtered) = (0, 0, 0, 0);
+            for (q, (got, stage)) in qs.iter().zip(&answers) {
+                trues += usize::from(q.truth);
+                fp += usize::from(got.is_some() && !q.truth);
+                fn_ += usize::from(got.is_none() && q.truth);
+                filtered += usize::from(*stage == Stage::Filter);
+            }
+            let (ns, _) = best_of_3(|| {
+                for q in &qs {
+                    std::hint::black_box(decide(kind, std::hint::black_box(&q.pts)));
+                }
+            });
+            if let Some(dir) = &toi_dir {
+                // `{:e}` prints the shortest decimal that reads back as the same double.
+                let lines: String = answers
+                    .iter()
+                    .map(|a| a.0.map_or("-\n".to_string(), |t| format!("{:e}\n", t.t)))
+                    .collect();
+                let path = dir.join(format!("{scene}_{tag}.toi"));
+                std::fs::write(&path, lines).unwrap_or_else(|e| panic!("{path:?}: {e}"));
+            }
+            println!(
+                "ccd-peers\t{scene}\t{tag}\t{}\t{trues}\t{:.0}\t{fp}\t{fn_}\t{filtered}",
+                qs.len(),
+                ns / qs.len().max(1) as f64,
+            );
+        }
+    }
+}

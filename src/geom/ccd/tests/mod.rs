@@ -5,7 +5,8 @@
 //! * `truth.rs`: the public ground truth of three simulation steps.
 //! * `adversarial.rs`: motions built so that the answer is known (every degenerate case,
 //!   scales near 1e-30 and 1e30, offsets 1e6), against the reference.
-//! * `bench.rs`: the timing over the ground truth (ignored).
+//! * `bench.rs`: the timing over the ground truth (ignored), and the columns
+//!   `scripts/bench-ccd-peers.sh` puts beside Tight-Inclusion's.
 
 mod adversarial;
 mod bench;
