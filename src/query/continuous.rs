@@ -88,8 +88,10 @@ pub struct SweptMesh {
     start: Vec<P3>,
     /// Empty when the mesh stands still.
     end: Vec<P3>,
-    /// Per leaf-ordered polygon.
+    /// Per leaf-ordered polygon: its box over the step, and (a moving mesh only) its boxes
+    /// at the start and at the end.
     boxes: Vec<Aabb>,
+    ends: Vec<[Aabb; 2]>,
     leaves: Vec<Aabb>,
     /// The leaves grown by the band (the broad phase's volumes).
     grown: Vec<Aabb>,
@@ -103,23 +105,31 @@ impl SweptMesh {
         mesh.step_positions(&mut self.start, &mut self.end);
         let n = mesh.polygon_count();
         self.boxes.clear();
+        self.ends.clear();
         if self.end.is_empty() {
             self.boxes.extend((0..n).map(|p| mesh.poly_box(p)));
         } else {
-            self.boxes.extend((0..n).map(|p| {
-                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-                for &s in mesh.poly(p) {
-                    for q in [&self.start[s as usize], &self.end[s as usize]] {
+            let (start, end) = (&self.start, &self.end);
+            self.ends.extend((0..n).map(|p| {
+                [start, end].map(|at| {
+                    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                    for &s in mesh.poly(p) {
+                        let q = &at[s as usize];
                         for k in 0..3 {
                             lo[k] = lo[k].min(q[k]);
                             hi[k] = hi[k].max(q[k]);
                         }
                     }
-                }
-                Aabb {
-                    min: lo.map(f32_down),
-                    max: hi.map(f32_up),
-                }
+                    Aabb {
+                        min: lo.map(f32_down),
+                        max: hi.map(f32_up),
+                    }
+                })
+            }));
+            self.boxes.extend(self.ends.iter().map(|[a, b]| {
+                let mut u = *a;
+                u.merge(b);
+                u
             }));
         }
         let lb = mesh.leaves();
@@ -144,6 +154,15 @@ impl SweptMesh {
         !self.end.is_empty()
     }
 
+    /// Leaf-ordered polygon `p`'s boxes at the start and the end of the step.
+    #[inline]
+    fn ends(&self, p: usize) -> [Aabb; 2] {
+        match self.ends.get(p) {
+            Some(e) => *e,
+            None => [self.boxes[p]; 2],
+        }
+    }
+
     /// Leaf-ordered polygon `p` of `mesh` over the step (vertex indices: the caller's).
     fn polygon(&self, mesh: &Mesh, p: usize) -> MovingPolygon {
         let slots = mesh.poly(p);
@@ -164,6 +183,28 @@ impl SweptMesh {
         }
         m
     }
+}
+
+/// Are boxes `a` and `b` (each at the start and the end of the step) more than `d` apart
+/// along one axis, on the same side, at both ends? Then the polygons they hold are apart
+/// for the whole step (the gap along a fixed direction is concave in time:
+/// [`crate::geom::ccd`]'s `apart.rs`), however far both move. The `f64` difference of two
+/// floats rounds monotonically and `d` is a double: a gap of at most `d` never passes.
+#[inline]
+fn apart_at_both_ends(a: [Aabb; 2], b: [Aabb; 2], d: f64) -> bool {
+    (0..3).any(|k| {
+        let side = |w: usize| {
+            if f64::from(b[w].min[k]) - f64::from(a[w].max[k]) > d {
+                1
+            } else if f64::from(a[w].min[k]) - f64::from(b[w].max[k]) > d {
+                -1
+            } else {
+                0
+            }
+        };
+        let s0 = side(0);
+        s0 != 0 && side(1) == s0
+    })
 }
 
 /// Leaf `la` of mesh `i` and leaf `lb` of mesh `j` (positions in the query's mesh list;
@@ -237,6 +278,8 @@ pub fn narrow(
     out: &mut Vec<(Impact, First)>,
     stats: &mut ContinuousStats,
 ) {
+    let mut sweep = Sweep::default();
+    let (mut va, mut cb, mut found) = (Vec::new(), Vec::new(), Vec::new());
     for lp in lps {
         let (ma, mb) = (&list[lp.i as usize], &list[lp.j as usize]);
         let (sa, sb) = (&swept[lp.i as usize], &swept[lp.j as usize]);
@@ -245,40 +288,46 @@ pub fn narrow(
             ma.mesh.leaves().polys(lp.la as usize),
             mb.mesh.leaves().polys(lp.lb as usize),
         );
-        for pa in ra {
-            let rb = if own && lp.la == lp.lb {
-                pa + 1..rb.end
-            } else {
-                rb.clone()
-            };
-            for pb in rb {
-                if !sa.boxes[pa].overlaps(&sb.boxes[pb], d) {
-                    continue;
-                }
-                stats.polygon_pairs += 1;
-                let (a, b) = (sa.polygon(ma.mesh, pa), sb.polygon(mb.mesh, pb));
-                let adjacent = own && shares_vertex(&a.ids[..a.k], &b.ids[..b.k]);
-                let Some((toi, first)) = polygons_first_meet(&a, &b, adjacent) else {
-                    continue;
-                };
-                let (ia, ib) = (ma.mesh.poly_ids[pa], mb.mesh.poly_ids[pb]);
-                let (ia, ib, first) = if own && ib < ia {
-                    (ib, ia, first.swapped())
-                } else {
-                    (ia, ib, first)
-                };
-                out.push((
-                    Impact {
-                        mesh_a: ma.id,
-                        polygon_a: ia,
-                        mesh_b: mb.id,
-                        polygon_b: ib,
-                        toi: toi.t,
-                        at_start: toi.at_start,
-                    },
-                    first,
-                ));
+        // The polygon box pairs of the leaf pair by a sweep, not all the products: leaves
+        // hold up to hundreds of polygons.
+        va.clear();
+        va.extend(sa.boxes[ra.clone()].iter().map(|b| b.grown(d)));
+        cb.clear();
+        cb.extend_from_slice(&sb.boxes[rb.clone()]);
+        found.clear();
+        sweep.pairs(&va, &cb, &mut found);
+        if own && lp.la == lp.lb {
+            found.retain(|&(x, y)| x < y);
+        }
+        found.sort_unstable();
+        for &(x, y) in &found {
+            let (pa, pb) = (ra.start + x as usize, rb.start + y as usize);
+            if apart_at_both_ends(sa.ends(pa), sb.ends(pb), d) {
+                continue;
             }
+            stats.polygon_pairs += 1;
+            let (a, b) = (sa.polygon(ma.mesh, pa), sb.polygon(mb.mesh, pb));
+            let adjacent = own && shares_vertex(&a.ids[..a.k], &b.ids[..b.k]);
+            let Some((toi, first)) = polygons_first_meet(&a, &b, adjacent) else {
+                continue;
+            };
+            let (ia, ib) = (ma.mesh.poly_ids[pa], mb.mesh.poly_ids[pb]);
+            let (ia, ib, first) = if own && ib < ia {
+                (ib, ia, first.swapped())
+            } else {
+                (ia, ib, first)
+            };
+            out.push((
+                Impact {
+                    mesh_a: ma.id,
+                    polygon_a: ia,
+                    mesh_b: mb.id,
+                    polygon_b: ib,
+                    toi: toi.t,
+                    at_start: toi.at_start,
+                },
+                first,
+            ));
         }
     }
 }

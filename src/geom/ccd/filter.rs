@@ -28,6 +28,7 @@
 //! that is exactly 0 at the root, too deep, too many pieces) leaves the whole query to the
 //! exact test.
 
+use super::apart::{apart_along, apart_on_axes, cross, max_abs, sub};
 use super::predicate::{meets, separated, Kind, Signs};
 use super::{Points, Toi};
 use crate::geom::two_sum;
@@ -317,54 +318,23 @@ fn swept_apart(b: &Box4, split: usize) -> bool {
     })
 }
 
-/// Are the points `0..split` and `split..4`, each at the start and the end of the step,
-/// strictly apart along one of a few fixed directions (the face's normals at both ends and
-/// its edges' in-plane normals at the start; the edges' common normals at both ends, the
+/// Are the points `0..split` and `split..4` apart for the whole step along a coordinate
+/// axis or one of a few other fixed directions (the face's normals at both ends and its
+/// edges' in-plane normals at the start; the edges' common normals at both ends, the
 /// direction between their midpoints and each edge's perpendicular towards the other)?
-/// Each primitive stays inside the hull of its points at both ends for the whole step
-/// (straight-line motion), so points apart along a direction are apart for the whole
-/// step: a primitive pair whose cubic has roots (nearly coplanar neighbours of a smooth
-/// mesh, parallel layers of cloth) yet which never comes near ends here, without the
-/// cubic's bisection.
-///
-/// The directions need not be exact; only the projections' rounding matters. A dot
-/// product of a direction `a` with a point `p` is within `gamma_3 * sum |a_k| * |p_k| <=
-/// 3.4e-16 * |a|_1 * max|p|` of its value (no underflow: an absolute `1e-290` covers
-/// it), and each comparison below rounds once more (`2^-53` relative): the margin
-/// `2e-15 * |a|_1 * max|p| + 1e-290` on each side covers both. Coordinates are at most
-/// `MAX_COORD` (1e90): no overflow (`|a|_1 * max|p|` stays below 1e272).
+/// See [`super::apart`]: separated at both ends of the step on the same side means apart
+/// throughout, however far both move. Ends the pairs whose cubic has roots but which never
+/// come near (nearly coplanar neighbours of a smooth mesh, parallel layers of cloth, a
+/// body moving as a whole) before any root is looked for.
 fn fixed_axes_apart(pts: &Points, split: usize) -> bool {
-    let maxabs = pts
-        .iter()
-        .flatten()
-        .flatten()
-        .fold(0f64, |m, x| m.max(x.abs()));
-    let sub = |a: &P3, b: &P3| -> P3 { [a[0] - b[0], a[1] - b[1], a[2] - b[2]] };
-    let cross = |a: &P3, b: &P3| -> P3 {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let mid = |a: &P3, b: &P3| -> P3 { std::array::from_fn(|k| 0.5 * a[k] + 0.5 * b[k]) };
-    let apart = |ax: &P3| -> bool {
-        let l1 = ax[0].abs() + ax[1].abs() + ax[2].abs();
-        if !(l1 > 0.0 && l1.is_finite()) {
-            return false;
-        }
-        let bound = 2e-15 * l1 * maxabs + 1e-290;
-        let range = |r: std::ops::Range<usize>| {
-            r.flat_map(|i| pts[i].iter())
-                .map(|p| ax[0] * p[0] + ax[1] * p[1] + ax[2] * p[2])
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                    (lo.min(x), hi.max(x))
-                })
-        };
-        let (a, b) = (range(0..split), range(split..4));
-        a.1 + bound < b.0 - bound || b.1 + bound < a.0 - bound
-    };
+    let (a, b) = pts.split_at(split);
+    if apart_on_axes(a, b) {
+        return true;
+    }
+    let maxabs = max_abs(a, b);
+    let apart = |n: &P3| apart_along(n, a, b, maxabs);
     let at = |i: usize, w: usize| &pts[i][w];
+    let mid = |p: &P3, q: &P3| -> P3 { std::array::from_fn(|k| 0.5 * p[k] + 0.5 * q[k]) };
     if split == 1 {
         let normal = |w: usize| cross(&sub(at(2, w), at(1, w)), &sub(at(3, w), at(1, w)));
         let n0 = normal(0);

@@ -23,6 +23,7 @@
 // Nothing in the library calls these yet (the continuous query will): only the tests.
 #![cfg_attr(not(test), allow(dead_code))]
 
+mod apart;
 mod exact;
 mod filter;
 mod poly;
