@@ -7,3 +7,5 @@ bash scripts/deps.sh
 cargo build --release --locked
 make -s -C examples-c
 examples-c/build/deform_demo data "${FRAMES:-300}" "${EPSILON:-0}"
+# Continuous detection: a blade through a membrane between two clean frames.
+examples-c/build/continuous_step data

@@ -30,6 +30,7 @@ make -s -C examples-c
 examples-c/build/api_errors
 examples-c/build/readme_example
 examples-c/build/abi_v01 data
+examples-c/build/continuous_step data
 # README.md shows examples-c/readme_example.c (from its #include on): keep the two identical.
 diff -u <(sed -n '/^#include <glcollide.h>/,$p' examples-c/readme_example.c) \
   <(sed -n '/^```c$/,/^```$/p' README.md | sed '1d;$d') ||
