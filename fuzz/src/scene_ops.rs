@@ -2,7 +2,8 @@
 //! (valid or not), updates (whole, ranges, bad ones), enabling, destroying, self-collision,
 //! filters, translations, queries, whole-scene queries, contact geometry, f64 meshes
 //! (creation, updates with either call), targets (positions with either call, transforms,
-//! clears: none changes an answer or invalidates the geometry), and malformed calls, on 1,
+//! clears: none changes an answer or invalidates the geometry), continuous queries (their
+//! pairs meeting at the start are exactly the whole-scene query's), and malformed calls, on 1,
 //! 2 or one-per-core threads. A model of the scene predicts every status, and every query is checked:
 //! sorted, each pair once, only live enabled meshes; with coordinates on the 1/4 grid the
 //! answer must equal the exact oracle's (epsilon = 0) or contain it with extras only within
@@ -300,6 +301,67 @@ fn check_query_all(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) -> us
         }
     }
     got.len()
+}
+
+/// `glcol_query_continuous` right after a successful `glcol_query_all` (whose answer the
+/// model has checked): sorted, each pair once, live enabled meshes, filters, times in
+/// [0, 1] with AT_START exactly at 0, and at epsilon 0 the pairs meeting at the start are
+/// exactly `glcol_query_all`'s (the same exact decisions, the adjacency rule included); at
+/// epsilon > 0 UNSUPPORTED (the distance band is not in this version).
+fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
+    let mut p: *const GlcolPair = null();
+    let mut n = usize::MAX;
+    status(
+        unsafe { glcol_query_all(scene, &mut p, &mut n) },
+        GlcolStatus::Ok,
+        "query_all",
+    );
+    let start: Vec<(u32, u32, u32, u32)> = if n == 0 {
+        Vec::new()
+    } else {
+        unsafe { std::slice::from_raw_parts(p, n) }
+            .iter()
+            .map(|q| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b))
+            .collect()
+    };
+    let mut ip: *const GlcolImpact = null();
+    let mut m = usize::MAX;
+    let s = unsafe { glcol_query_continuous(scene, &mut ip, &mut m) };
+    if epsilon != 0.0 {
+        status(s, GlcolStatus::Unsupported, "query_continuous with a band");
+        assert_eq!(m, usize::MAX, "written on failure");
+        return;
+    }
+    status(s, GlcolStatus::Ok, "query_continuous");
+    let got = if m == 0 {
+        Vec::new()
+    } else {
+        unsafe { std::slice::from_raw_parts(ip, m) }.to_vec()
+    };
+    let key = |q: &GlcolImpact| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b);
+    assert!(
+        got.windows(2).all(|w| key(&w[0]) < key(&w[1])),
+        "impacts not sorted/unique"
+    );
+    for q in &got {
+        let model = |id: u32| meshes.iter().find(|m| m.id == id).expect("dead mesh");
+        let (a, b) = (model(q.mesh_a), model(q.mesh_b));
+        assert!(a.enabled && b.enabled, "impact with a disabled mesh");
+        assert!((q.polygon_a as usize) < a.polygons() && (q.polygon_b as usize) < b.polygons());
+        if a.id == b.id {
+            assert!(a.self_collision && q.polygon_a < q.polygon_b);
+        } else {
+            assert!(a.collides_with(b) && a.id < b.id, "impact of filtered-out meshes");
+        }
+        assert!((0.0..=1.0).contains(&q.toi), "toi {}", q.toi);
+        assert_eq!(q.toi == 0.0, q.flags & GLCOL_IMPACT_AT_START != 0, "{q:?}");
+    }
+    let at_start: Vec<_> = got
+        .iter()
+        .filter(|q| q.flags & GLCOL_IMPACT_AT_START != 0)
+        .map(key)
+        .collect();
+    assert_eq!(at_start, start, "AT_START pairs differ from glcol_query_all's");
 }
 
 /// `glcol_query_geometry` after a successful query of `n` contacts or pairs: one entry
@@ -642,6 +704,7 @@ pub fn run(data: &[u8]) {
             9 => {
                 let n = check_query_all(scene, &meshes, epsilon);
                 check_geometry(scene, n, epsilon);
+                check_continuous(scene, &meshes, epsilon);
             }
             11 => {
                 // Targets: positions (either call, any range, bad values), a transform, a
