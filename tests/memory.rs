@@ -240,6 +240,14 @@ fn a_target_costs_its_positions_and_no_target_costs_nothing() {
         let tenth = target(&mut s, nv / 2, nv / 10);
         s.clear_target(id).unwrap();
         let full = target(&mut s, 0, nv);
+        // The continuous query's scratch, kept by the scene for the next step (the step's
+        // positions and boxes; the answer is empty here).
+        let at = held();
+        assert!(s.query_continuous().unwrap().is_empty());
+        let step = held() - at;
+        let at = held();
+        assert!(s.query_continuous().unwrap().is_empty());
+        assert_eq!(held(), at, "the next step allocates nothing");
         let at = held();
         s.clear_target(id).unwrap();
         assert_eq!(held() - at, -full, "a clear gives every byte back");
@@ -255,10 +263,11 @@ fn a_target_costs_its_positions_and_no_target_costs_nothing() {
             "{kind} mesh, {polys} triangles, {nv} vertices: {:.1} bytes/polygon without a target \
              (mesh structure; the CPU box cache adds 28 at the first query); a full target \
              +{:.1} bytes/polygon, a tenth of the vertices +{:.1}, a target transform alone \
-             +{transform} bytes",
+             +{transform} bytes; the continuous query's scratch +{:.1} bytes/polygon",
             mesh as f64 / polys as f64,
             full as f64 / polys as f64,
             tenth as f64 / polys as f64,
+            step as f64 / polys as f64,
         );
         assert!(
             full as usize <= word * nv + 512,
