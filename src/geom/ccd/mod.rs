@@ -17,15 +17,16 @@
 //!   it vanishes identically the roots of every sign's polynomial, and the static test at
 //!   each, earliest first.
 //! * `poly.rs`: integer polynomials, root isolation and signs at real algebraic numbers.
+//! * `impact.rs`: where a contact happens: the weights of the closest points and the normal
+//!   at the time of impact, and the primitive pair of a polygon pair that meets first.
 //! * `tests/`: the ground truth of the simulation steps, an independent rational
 //!   reference, adversarial motions by construction, and the timing (ignored).
 
-// Nothing in the library calls these yet (the continuous query will): only the tests.
-#![cfg_attr(not(test), allow(dead_code))]
 
 mod apart;
 mod exact;
 mod filter;
+mod impact;
 mod poly;
 mod polygons;
 mod predicate;
@@ -33,6 +34,7 @@ mod predicate;
 mod tests;
 
 use super::P3;
+pub use impact::{edge_edge_impact, vertex_face_impact};
 pub use polygons::{polygons_first_meet, First, MovingPolygon};
 use predicate::Kind;
 

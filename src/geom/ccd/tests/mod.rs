@@ -5,11 +5,15 @@
 //! * `truth.rs`: the public ground truth of three simulation steps.
 //! * `adversarial.rs`: motions built so that the answer is known (every degenerate case,
 //!   scales near 1e-30 and 1e30, offsets 1e6), against the reference.
+//! * `impact.rs`: the impact geometry (weights and normal at the time of impact), checked
+//!   exactly on the ground truth and on built motions.
+//! * `polygons.rs`: moving polygon pairs and whole scenes against the rational reference.
 //! * `bench.rs`: the timing over the ground truth (ignored), and the columns
 //!   `scripts/bench-ccd-peers.sh` puts beside Tight-Inclusion's.
 
 mod adversarial;
 mod bench;
+mod impact;
 mod polygons;
 mod reference;
 mod truth;
