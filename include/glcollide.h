@@ -36,6 +36,19 @@
 // `GlcolImpact::flags`: the pair already meets at t = 0 (its toi is 0). Added in 0.3.
 #define GLCOL_IMPACT_AT_START (1 << 0)
 
+// `GlcolImpactGeometry::kind`: the pair meets at t = 0 (GLCOL_IMPACT_AT_START); its
+// crossing geometry is glcol_query_geometry's. Added in 0.3.
+#define GLCOL_FEATURE_NONE 0
+
+// `GlcolImpactGeometry::kind`: a vertex of polygon a and a triangle of polygon b.
+#define GLCOL_FEATURE_VERTEX_FACE 1
+
+// `GlcolImpactGeometry::kind`: a triangle of polygon a and a vertex of polygon b.
+#define GLCOL_FEATURE_FACE_VERTEX 2
+
+// `GlcolImpactGeometry::kind`: an edge of each (a polygon's edges are its triangles').
+#define GLCOL_FEATURE_EDGE_EDGE 3
+
 // How a call went. Values are ABI: never renumber; new values are appended.
 typedef enum GlcolStatus {
   // Success.
@@ -240,6 +253,27 @@ typedef struct GlcolImpact {
   // GLCOL_IMPACT_* bits.
   uint32_t flags;
 } GlcolImpact;
+
+// Where a pair of `glcol_query_continuous` meets first (`glcol_query_impact_geometry`).
+// Added in 0.3.
+typedef struct GlcolImpactGeometry {
+  // GLCOL_FEATURE_*: the primitive pair that meets first.
+  uint32_t kind;
+  // mesh_a's vertex indices of a's feature: 1 for a vertex, 2 for an edge, 3 for a
+  // triangle; unused entries repeat the last used one.
+  uint32_t vertices_a[3];
+  // mesh_b's vertex indices of b's feature, likewise.
+  uint32_t vertices_b[3];
+  // Barycentric weights (each in [0, 1], summing to 1) of the contact point on a's
+  // feature at toi: point_a = sum of weights_a[k] * p(toi) of vertices_a[k]; unused
+  // weights 0.
+  double weights_a[3];
+  // The same on b's feature.
+  double weights_b[3];
+  // Unit, at toi, from b towards a: the triangle's normal turned towards the vertex
+  // (VERTEX_FACE, FACE_VERTEX), the edges' common normal (EDGE_EDGE); 0 for NONE.
+  double normal[3];
+} GlcolImpactGeometry;
 
 // A triangle mesh read by `glcol_obj_load` (arrays owned by the library until
 // `glcol_obj_free`).
@@ -737,6 +771,27 @@ enum GlcolStatus glcol_query_geometry(struct GlcolScene *scene,
 enum GlcolStatus glcol_query_continuous(struct GlcolScene *scene,
                                         const struct GlcolImpact **out_impacts,
                                         size_t *out_count);
+
+// Where each pair of the scene's last successful glcol_query_continuous meets first, in the
+// same order: entry i for impact i. The primitive pair (a vertex of one and a triangle of the
+// other, or an edge of each) that met first, its vertex indices, the barycentric weights of
+// its contact points and the unit normal from b towards a at the reported toi: what an
+// impulse-based response pushes on (the vertex and the face's three vertices, or the four
+// vertices of two edges, weighted, along the normal). Computed at this call, in double
+// (a step that does not ask pays nothing): point_a and point_b are within 2^-19 times the
+// step's largest vertex motion of each other. A pair that meets at t = 0 gets
+// GLCOL_FEATURE_NONE (its crossing geometry is glcol_query_geometry's, for the start). On
+// success `*out_geometry` points at `*out_count` entries (NULL when 0), owned by the scene
+// like the impacts (valid until the next non-const call; the impacts stay valid).
+// GLCOL_STATUS_INVALID_ARGUMENT, with a message, before any continuous query, after a
+// failed one, or after any change to the meshes or their targets since. Added in 0.3.
+//
+// # Safety
+// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
+// aligned.
+enum GlcolStatus glcol_query_impact_geometry(struct GlcolScene *scene,
+                                             const struct GlcolImpactGeometry **out_geometry,
+                                             size_t *out_count);
 
 // Reads a Wavefront OBJ file (`v` and `f` lines; larger faces split into triangle fans)
 // for examples and tests. On success `*out` owns arrays to release with `glcol_obj_free`.

@@ -69,6 +69,7 @@ pub use mesh::{Mesh, Positions};
 pub use obj::ObjMesh;
 pub use query::all::AllStats;
 pub use query::continuous::{ContinuousStats, Impact};
+pub use query::impact::{ImpactFeature, ImpactGeometry};
 pub use scene::{MeshId, Scene, SceneConfig};
 
 // The one list of each concept, for the C layer's tables (see `ffi::tables`).

@@ -12,6 +12,7 @@ use crate::error::Result;
 
 pub mod all;
 pub mod continuous;
+pub mod impact;
 
 pub use crate::backend::{Contact, QueryStats};
 

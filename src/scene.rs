@@ -13,6 +13,7 @@ use crate::mesh::{Mesh, Positions};
 use crate::plan::{unknown, Answer, Planner};
 use crate::query::all::AllStats;
 use crate::query::continuous::{ContinuousStats, Impact};
+use crate::query::impact::{impact_geometry, ImpactGeometry};
 use crate::query::QueryStats;
 
 pub use crate::mesh::MeshId;
@@ -106,8 +107,9 @@ pub struct Scene {
     impacts_scratch: Vec<Impact>,
     firsts_scratch: Vec<First>,
     /// The impacts still describe the meshes and their targets (the impact geometry is
-    /// computed only then).
+    /// computed only then), and their geometry once computed.
     impacts_current: bool,
+    impact_geometry: Vec<ImpactGeometry>,
 }
 
 /// The last successful query whose answer still describes the meshes.
@@ -175,6 +177,7 @@ impl Scene {
             impacts_scratch: Vec::new(),
             firsts_scratch: Vec::new(),
             impacts_current: false,
+            impact_geometry: Vec::new(),
         })
     }
 
@@ -495,6 +498,7 @@ impl Scene {
     /// a host GL buffer. On failure [`Scene::impacts`] keeps the last successful answer.
     pub fn query_continuous(&mut self) -> Result<&[Impact]> {
         self.impacts_current = false;
+        self.impact_geometry.clear();
         let d = self.half_depth();
         if d > 0.0 {
             return Err(Error::new(
@@ -521,6 +525,32 @@ impl Scene {
     /// The pairs of the last successful [`Scene::query_continuous`].
     pub fn impacts(&self) -> &[Impact] {
         &self.impacts
+    }
+
+    /// Where each pair of the last successful [`Scene::query_continuous`] meets first, entry
+    /// `i` for impact `i` (see [`ImpactGeometry`]): the primitive pair (a vertex and a
+    /// triangle, or two edges), the contact points' weights and the normal at `toi`, in
+    /// double. Computed here, on demand (a step that does not ask pays nothing). A pair
+    /// that meets at the start gets [`ImpactFeature::None`](crate::ImpactFeature::None).
+    /// InvalidArgument before any continuous query, after a failed one, or after a change
+    /// to the meshes or their targets since.
+    pub fn impact_geometry(&mut self) -> Result<&[ImpactGeometry]> {
+        if !self.impacts_current {
+            return Err(Error::invalid(
+                "no impact geometry: there was no successful continuous query since the \
+                 scene was made, its meshes or targets last changed, or a query last failed",
+            ));
+        }
+        if self.impact_geometry.len() != self.impacts.len() || self.impacts.is_empty() {
+            let mut out = std::mem::take(&mut self.impact_geometry);
+            let res = impact_geometry(&self.meshes, &self.impacts, &self.firsts, &mut out);
+            if res.is_err() {
+                out.clear();
+            }
+            self.impact_geometry = out;
+            res?;
+        }
+        Ok(&self.impact_geometry)
     }
 
     /// Counts and times of the last [`Scene::query_continuous`].

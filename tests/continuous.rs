@@ -17,7 +17,7 @@ mod common;
 
 use common::has_shared;
 use glcollide::ffi::*;
-use glcollide::{ErrorKind, Impact, MeshId, Positions, Scene, SceneConfig};
+use glcollide::{ErrorKind, Impact, ImpactFeature, MeshId, Positions, Scene, SceneConfig};
 use std::collections::{BTreeSet, HashMap};
 
 fn scene(threads: u32) -> Scene {
@@ -427,4 +427,148 @@ fn the_c_entry_point() {
     let e = s.query_continuous().unwrap_err();
     assert_eq!(e.kind, ErrorKind::Unsupported);
     assert!(e.message.contains("epsilon"), "{e}");
+}
+
+/// Checks `Scene::impact_geometry` against the answer: one entry per impact; NONE exactly
+/// for AT_START; the features' vertices are the polygons' (`polys(mesh, polygon)`); weights
+/// in [0, 1] summing to 1 (unused ones 0); the two contact points at toi within 2^-19 of
+/// the features' largest motion (plus rounding); a unit normal, which a's feature
+/// approaches along: the relative velocity of the contact points has no component along
+/// +normal beyond rounding (a comes from the normal's side). Returns how many were checked.
+fn check_impact_geometry(s: &mut Scene, polys: &dyn Fn(MeshId, u32) -> Vec<u32>) -> usize {
+    let impacts = s.impacts().to_vec();
+    let geo = s.impact_geometry().unwrap().to_vec();
+    assert_eq!(geo.len(), impacts.len());
+    for (i, g) in impacts.iter().zip(&geo) {
+        assert_eq!(g.kind == ImpactFeature::None, i.at_start, "{i:?} {g:?}");
+        if i.at_start {
+            continue;
+        }
+        let used = |k: ImpactFeature, a: bool| match (k, a) {
+            (ImpactFeature::VertexFace, true) | (ImpactFeature::FaceVertex, false) => 1,
+            (ImpactFeature::EdgeEdge, _) => 2,
+            _ => 3,
+        };
+        let pos = |id: MeshId, v: u32, t: f64| -> [f64; 3] {
+            let m = s.mesh(id).unwrap();
+            let (p0, p1) = (
+                m.world_position(v as usize).unwrap(),
+                m.end_world_position(v as usize).unwrap(),
+            );
+            std::array::from_fn(|k| p0[k] + t * (p1[k] - p0[k]))
+        };
+        let mut motion: f64 = 0.0;
+        let mut scale: f64 = 0.0;
+        let mut point = |id: MeshId, poly: u32, vs: &[u32; 3], w: &[f64; 3], n: usize, t: f64| {
+            let own = polys(id, poly);
+            let mut p = [0.0; 3];
+            let sum: f64 = w.iter().sum();
+            assert!((sum - 1.0).abs() <= 1e-15, "weights {w:?} sum to {sum}");
+            for k in 0..3 {
+                assert!((0.0..=1.0).contains(&w[k]), "weight {w:?}");
+                if k >= n {
+                    assert_eq!((vs[k], w[k]), (vs[n - 1], 0.0), "unused entry {vs:?} {w:?}");
+                    continue;
+                }
+                assert!(own.contains(&vs[k]), "vertex {} not in polygon {poly} {own:?}", vs[k]);
+                let (a, b) = (pos(id, vs[k], 0.0), pos(id, vs[k], 1.0));
+                motion = motion.max((0..3).map(|c| (b[c] - a[c]).abs()).fold(0.0, f64::max));
+                let q = pos(id, vs[k], t);
+                for c in 0..3 {
+                    p[c] += w[k] * q[c];
+                    scale = scale.max(q[c].abs());
+                }
+            }
+            p
+        };
+        let (na, nb) = (used(g.kind, true), used(g.kind, false));
+        let pa = point(i.mesh_a, i.polygon_a, &g.vertices_a, &g.weights_a, na, i.toi);
+        let pb = point(i.mesh_b, i.polygon_b, &g.vertices_b, &g.weights_b, nb, i.toi);
+        // The contact points' relative velocity (over the step, the weights held).
+        let pa0 = point(i.mesh_a, i.polygon_a, &g.vertices_a, &g.weights_a, na, 0.0);
+        let pa1 = point(i.mesh_a, i.polygon_a, &g.vertices_a, &g.weights_a, na, 1.0);
+        let pb0 = point(i.mesh_b, i.polygon_b, &g.vertices_b, &g.weights_b, nb, 0.0);
+        let pb1 = point(i.mesh_b, i.polygon_b, &g.vertices_b, &g.weights_b, nb, 1.0);
+        let gap = (0..3).map(|c| (pa[c] - pb[c]).powi(2)).sum::<f64>().sqrt();
+        assert!(
+            gap <= 2f64.powi(-19) * motion * 3f64.sqrt() + 1e-12 * scale,
+            "contact points {gap} apart at toi (motion {motion}): {i:?} {g:?}"
+        );
+        let len = g.normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!((len - 1.0).abs() < 1e-12, "normal {:?}", g.normal);
+        let closing: f64 = (0..3)
+            .map(|c| ((pa1[c] - pa0[c]) - (pb1[c] - pb0[c])) * g.normal[c])
+            .sum();
+        assert!(
+            closing <= 1e-9 * motion + 1e-12 * scale,
+            "a moves away along the normal ({closing}): {i:?} {g:?}"
+        );
+    }
+    geo.len()
+}
+
+#[test]
+fn impact_geometry_of_the_blade_and_the_hinge() {
+    let mut s = scene(1);
+    let quad = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]];
+    let membrane = s
+        .create_mesh(Positions::from_points(&quad), &[0, 1, 2, 3], 4)
+        .unwrap();
+    let up = [[0.4, 0.4, 1.0], [0.6, 0.4, 1.0], [0.5, 0.6, 1.5]];
+    let blade = s.create_mesh(Positions::from_points(&up), &[0, 1, 2], 3).unwrap();
+    // Before any continuous query: refused with a message.
+    let e = s.impact_geometry().unwrap_err();
+    assert_eq!(e.kind, ErrorKind::InvalidArgument);
+    let m = [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., -2.];
+    s.set_target_transform(blade, &m).unwrap();
+    assert_eq!(s.query_continuous().unwrap().len(), 1);
+    let polys = |id: MeshId, _p: u32| -> Vec<u32> {
+        if id == membrane { vec![0, 1, 2, 3] } else { vec![0, 1, 2] }
+    };
+    assert_eq!(check_impact_geometry(&mut s, &polys), 1);
+    let g = s.impact_geometry().unwrap()[0];
+    // The blade's lowest edge (z = 1 at the start) lands on the membrane: an edge of the
+    // blade (a's feature is the membrane's? no: a is the membrane, the lower id) on the
+    // membrane's face, or its corner; the normal points from the blade down towards the
+    // membrane (from b towards a).
+    assert!(g.normal[2] < -0.99, "{g:?}");
+    // A change of the targets: the geometry is refused until the next query.
+    s.clear_target(blade).unwrap();
+    assert_eq!(s.impact_geometry().unwrap_err().kind, ErrorKind::InvalidArgument);
+    // The hinge folding through itself: the free vertex's edges or the vertex itself hit
+    // the neighbour; the normal is the neighbour's (z), turned towards the folding one,
+    // which comes from above.
+    let mut h = scene(1);
+    let p = [[0., 0., 0.], [1., 0., 0.], [0.5, 1., 0.], [0.5, 0.5, 1.0]];
+    let id = h
+        .create_mesh(Positions::from_points_f64(&p), &[0, 1, 2, 0, 1, 3], 3)
+        .unwrap();
+    h.set_self_collision(id, true).unwrap();
+    h.set_target_positions_f64(id, 3, &[[0.5, 0.5, -1.0]]).unwrap();
+    assert_eq!(h.query_continuous().unwrap().len(), 1);
+    let tri = |_: MeshId, p: u32| -> Vec<u32> { if p == 0 { vec![0, 1, 2] } else { vec![0, 1, 3] } };
+    assert_eq!(check_impact_geometry(&mut h, &tri), 1);
+    let g = h.impact_geometry().unwrap()[0];
+    assert_eq!(g.kind, ImpactFeature::FaceVertex, "{g:?}");
+    assert_eq!(g.vertices_b, [3; 3]);
+    // From b (the folding triangle, above) towards a: down.
+    assert!(g.normal[2] < -0.99, "{g:?}");
+}
+
+#[test]
+fn impact_geometry_of_the_real_steps() {
+    if !has_shared("meshes/sim") {
+        return;
+    }
+    for (name, n) in STEPS {
+        let (mut s, ids, tris) = sim_step(name, n, 0);
+        s.query_continuous().unwrap();
+        let polys = |id: MeshId, p: u32| -> Vec<u32> {
+            let part = ids.iter().position(|&x| x == id).unwrap();
+            tris[part][3 * p as usize..][..3].to_vec()
+        };
+        let checked = check_impact_geometry(&mut s, &polys);
+        eprintln!("{name}: the impact geometry of {checked} pairs checked");
+        assert!(checked > 0);
+    }
 }

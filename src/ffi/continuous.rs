@@ -5,6 +5,7 @@ use super::desc::{try_reserve, write_array};
 use super::guard::{guard, non_null, FfiResult};
 use super::scene::{scene_mut, GlcolScene};
 use super::types::*;
+use crate::ImpactFeature;
 
 /// Continuous detection over the step from every mesh's current state (t = 0) to its target
 /// (t = 1; see glcol_mesh_set_target_positions; a mesh without one stands still), each
@@ -65,5 +66,66 @@ fn query_continuous(
     // SAFETY: the glcol_query_continuous caller's contract: both non-null (checked),
     // writable and aligned.
     unsafe { write_array(&s.impacts, out_impacts, out_count) };
+    Ok(())
+}
+
+/// Where each pair of the scene's last successful glcol_query_continuous meets first, in the
+/// same order: entry i for impact i. The primitive pair (a vertex of one and a triangle of the
+/// other, or an edge of each) that met first, its vertex indices, the barycentric weights of
+/// its contact points and the unit normal from b towards a at the reported toi: what an
+/// impulse-based response pushes on (the vertex and the face's three vertices, or the four
+/// vertices of two edges, weighted, along the normal). Computed at this call, in double
+/// (a step that does not ask pays nothing): point_a and point_b are within 2^-19 times the
+/// step's largest vertex motion of each other. A pair that meets at t = 0 gets
+/// GLCOL_FEATURE_NONE (its crossing geometry is glcol_query_geometry's, for the start). On
+/// success `*out_geometry` points at `*out_count` entries (NULL when 0), owned by the scene
+/// like the impacts (valid until the next non-const call; the impacts stay valid).
+/// GLCOL_STATUS_INVALID_ARGUMENT, with a message, before any continuous query, after a
+/// failed one, or after any change to the meshes or their targets since. Added in 0.3.
+///
+/// # Safety
+/// `scene` is NULL or a live scene; `out_geometry` and `out_count` are NULL or writable and
+/// aligned.
+#[no_mangle]
+pub unsafe extern "C" fn glcol_query_impact_geometry(
+    scene: *mut GlcolScene,
+    out_geometry: *mut *const GlcolImpactGeometry,
+    out_count: *mut usize,
+) -> GlcolStatus {
+    guard(|| {
+        // SAFETY: the caller's contract: NULL (refused) or a live scene.
+        let s = unsafe { scene_mut(scene) }?;
+        impact_geometry(s, out_geometry, out_count)
+    })
+}
+
+/// `glcol_query_impact_geometry`'s body once the scene is known.
+fn impact_geometry(
+    s: &mut GlcolScene,
+    out_geometry: *mut *const GlcolImpactGeometry,
+    out_count: *mut usize,
+) -> FfiResult {
+    non_null(out_geometry, "out_geometry")?;
+    non_null(out_count, "out_count")?;
+    let found = s.scene.impact_geometry()?;
+    let more = found.len().saturating_sub(s.impact_geometry.len());
+    try_reserve(&mut s.impact_geometry, more, "the impact geometry")?;
+    s.impact_geometry.clear();
+    s.impact_geometry.extend(found.iter().map(|g| GlcolImpactGeometry {
+        kind: match g.kind {
+            ImpactFeature::None => GLCOL_FEATURE_NONE,
+            ImpactFeature::VertexFace => GLCOL_FEATURE_VERTEX_FACE,
+            ImpactFeature::FaceVertex => GLCOL_FEATURE_FACE_VERTEX,
+            ImpactFeature::EdgeEdge => GLCOL_FEATURE_EDGE_EDGE,
+        },
+        vertices_a: g.vertices_a,
+        vertices_b: g.vertices_b,
+        weights_a: g.weights_a,
+        weights_b: g.weights_b,
+        normal: g.normal,
+    }));
+    // SAFETY: the glcol_query_impact_geometry caller's contract: both non-null (checked),
+    // writable and aligned.
+    unsafe { write_array(&s.impact_geometry, out_geometry, out_count) };
     Ok(())
 }

@@ -43,6 +43,7 @@ pub struct GlcolScene {
     pub(super) pairs: Vec<GlcolPair>,
     pub(super) geometry: Vec<GlcolContactGeometry>,
     pub(super) impacts: Vec<GlcolImpact>,
+    pub(super) impact_geometry: Vec<GlcolImpactGeometry>,
 }
 
 /// The scene behind a pointer, or `NULL_POINTER`.
@@ -222,6 +223,7 @@ pub unsafe extern "C" fn glcol_scene_create(
             pairs: Vec::new(),
             geometry: Vec::new(),
             impacts: Vec::new(),
+            impact_geometry: Vec::new(),
         }));
         // SAFETY: non-null (checked); the caller's contract: writable and aligned.
         unsafe { out_scene.write(scene) };

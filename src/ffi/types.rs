@@ -239,3 +239,36 @@ pub struct GlcolImpact {
     /// GLCOL_IMPACT_* bits.
     pub flags: u32,
 }
+
+/// `GlcolImpactGeometry::kind`: the pair meets at t = 0 (GLCOL_IMPACT_AT_START); its
+/// crossing geometry is glcol_query_geometry's. Added in 0.3.
+pub const GLCOL_FEATURE_NONE: u32 = 0;
+/// `GlcolImpactGeometry::kind`: a vertex of polygon a and a triangle of polygon b.
+pub const GLCOL_FEATURE_VERTEX_FACE: u32 = 1;
+/// `GlcolImpactGeometry::kind`: a triangle of polygon a and a vertex of polygon b.
+pub const GLCOL_FEATURE_FACE_VERTEX: u32 = 2;
+/// `GlcolImpactGeometry::kind`: an edge of each (a polygon's edges are its triangles').
+pub const GLCOL_FEATURE_EDGE_EDGE: u32 = 3;
+
+/// Where a pair of `glcol_query_continuous` meets first (`glcol_query_impact_geometry`).
+/// Added in 0.3.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GlcolImpactGeometry {
+    /// GLCOL_FEATURE_*: the primitive pair that meets first.
+    pub kind: u32,
+    /// mesh_a's vertex indices of a's feature: 1 for a vertex, 2 for an edge, 3 for a
+    /// triangle; unused entries repeat the last used one.
+    pub vertices_a: [u32; 3],
+    /// mesh_b's vertex indices of b's feature, likewise.
+    pub vertices_b: [u32; 3],
+    /// Barycentric weights (each in [0, 1], summing to 1) of the contact point on a's
+    /// feature at toi: point_a = sum of weights_a[k] * p(toi) of vertices_a[k]; unused
+    /// weights 0.
+    pub weights_a: [f64; 3],
+    /// The same on b's feature.
+    pub weights_b: [f64; 3],
+    /// Unit, at toi, from b towards a: the triangle's normal turned towards the vertex
+    /// (VERTEX_FACE, FACE_VERTEX), the edges' common normal (EDGE_EDGE); 0 for NONE.
+    pub normal: [f64; 3],
+}
