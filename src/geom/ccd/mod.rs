@@ -17,6 +17,8 @@
 //!   it vanishes identically the roots of every sign's polynomial, and the static test at
 //!   each, earliest first.
 //! * `poly.rs`: integer polynomials, root isolation and signs at real algebraic numbers.
+//! * `impact.rs`: where a contact happens: the weights of the closest points and the normal
+//!   at the time of impact, and the primitive pair of a polygon pair that meets first.
 //! * `tests/`: the ground truth of the simulation steps, an independent rational
 //!   reference, adversarial motions by construction, and the timing (ignored).
 
@@ -25,12 +27,19 @@
 
 mod exact;
 mod filter;
+mod impact;
 mod poly;
 mod predicate;
 #[cfg(test)]
 mod tests;
 
 use super::P3;
+// Nothing in the library calls these yet (the continuous query's geometry will).
+#[cfg_attr(not(test), allow(unused_imports))]
+pub use impact::{
+    edge_edge_impact, polygon_impact, vertex_face_impact, Feature, ImpactPoint, MovingTriangle,
+    NormalFrom, PolygonImpact,
+};
 use predicate::Kind;
 
 /// A time of impact.

@@ -5,10 +5,14 @@
 //! * `truth.rs`: the public ground truth of three simulation steps.
 //! * `adversarial.rs`: motions built so that the answer is known (every degenerate case,
 //!   scales near 1e-30 and 1e30, offsets 1e6), against the reference.
+//! * `impact.rs`: the impact geometry (weights and normal at the time of impact, the
+//!   polygon pair's first primitive pair), checked exactly on the ground truth and on built
+//!   motions.
 //! * `bench.rs`: the timing over the ground truth (ignored).
 
 mod adversarial;
 mod bench;
+mod impact;
 mod reference;
 mod truth;
 
