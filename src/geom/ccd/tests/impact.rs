@@ -605,6 +605,36 @@ fn a_vertex_hits_a_triangle_inside_on_an_edge_and_at_a_corner() {
 }
 
 #[test]
+fn a_tangential_touch() {
+    // The triangle tilts about its edge on the x axis (f2 from (0, 4, 1) to (0, 4, -1));
+    // the vertex (1, 1 + t, 3/8 - 3t/4) stays above its plane, touching it at t = 1/2 only,
+    // at (1, 3/2, 0), inside: det(t) = 8 (t - 1/2)^2, a double root. At that time the
+    // vertex is in the plane and its relative velocity along the plane: only "just before"
+    // tells the side (above, +z), whichever way the triangle is wound.
+    let mut tally = Tally::default();
+    let v = [[1.0, 1.0, 0.375], [1.0, 2.0, -0.375]];
+    let (f0, f1) = ([0.0, 0.0, 0.0], [4.0, 0.0, 0.0]);
+    let f2 = [[0.0, 4.0, 1.0], [0.0, 4.0, -1.0]];
+    for wound in [true, false] {
+        let f = if wound {
+            [[f0, f1, f2[0]], [f0, f1, f2[1]]]
+        } else {
+            [[f0, f2[0], f1], [f0, f2[1], f1]]
+        };
+        let pts = vf_pts(v, f);
+        let (toi, ip) = judge_everywhere(Kind::VertexFace, &pts, &mut tally);
+        assert!((toi.t - 0.5).abs() <= 1.0 / (1 << 20) as f64, "{toi:?}");
+        assert!(ip.normal[2] > 0.99, "{ip:?}");
+        let at_touch = judge_at(Kind::VertexFace, &pts, 0.5);
+        assert!(
+            close(&at_touch.normal, &[0.0, 0.0, 1.0], 1e-12),
+            "{wound} {at_touch:?}"
+        );
+    }
+    eprintln!("tangential: {tally:?}");
+}
+
+#[test]
 fn edges_crossing_parallel_and_end_to_end() {
     let mut tally = Tally::default();
     // Crossing: a (along x) comes down onto b (along y, either direction).
