@@ -470,7 +470,11 @@ fn check_impact_geometry(s: &mut Scene, polys: &dyn Fn(MeshId, u32) -> Vec<u32>)
                     assert_eq!((vs[k], w[k]), (vs[n - 1], 0.0), "unused entry {vs:?} {w:?}");
                     continue;
                 }
-                assert!(own.contains(&vs[k]), "vertex {} not in polygon {poly} {own:?}", vs[k]);
+                assert!(
+                    own.contains(&vs[k]),
+                    "vertex {} not in polygon {poly} {own:?}",
+                    vs[k]
+                );
                 let (a, b) = (pos(id, vs[k], 0.0), pos(id, vs[k], 1.0));
                 motion = motion.max((0..3).map(|c| (b[c] - a[c]).abs()).fold(0.0, f64::max));
                 let q = pos(id, vs[k], t);
@@ -482,8 +486,22 @@ fn check_impact_geometry(s: &mut Scene, polys: &dyn Fn(MeshId, u32) -> Vec<u32>)
             p
         };
         let (na, nb) = (used(g.kind, true), used(g.kind, false));
-        let pa = point(i.mesh_a, i.polygon_a, &g.vertices_a, &g.weights_a, na, i.toi);
-        let pb = point(i.mesh_b, i.polygon_b, &g.vertices_b, &g.weights_b, nb, i.toi);
+        let pa = point(
+            i.mesh_a,
+            i.polygon_a,
+            &g.vertices_a,
+            &g.weights_a,
+            na,
+            i.toi,
+        );
+        let pb = point(
+            i.mesh_b,
+            i.polygon_b,
+            &g.vertices_b,
+            &g.weights_b,
+            nb,
+            i.toi,
+        );
         // The contact points' relative velocity (over the step, the weights held).
         let pa0 = point(i.mesh_a, i.polygon_a, &g.vertices_a, &g.weights_a, na, 0.0);
         let pa1 = point(i.mesh_a, i.polygon_a, &g.vertices_a, &g.weights_a, na, 1.0);
@@ -515,7 +533,9 @@ fn impact_geometry_of_the_blade_and_the_hinge() {
         .create_mesh(Positions::from_points(&quad), &[0, 1, 2, 3], 4)
         .unwrap();
     let up = [[0.4, 0.4, 1.0], [0.6, 0.4, 1.0], [0.5, 0.6, 1.5]];
-    let blade = s.create_mesh(Positions::from_points(&up), &[0, 1, 2], 3).unwrap();
+    let blade = s
+        .create_mesh(Positions::from_points(&up), &[0, 1, 2], 3)
+        .unwrap();
     // Before any continuous query: refused with a message.
     let e = s.impact_geometry().unwrap_err();
     assert_eq!(e.kind, ErrorKind::InvalidArgument);
@@ -523,7 +543,11 @@ fn impact_geometry_of_the_blade_and_the_hinge() {
     s.set_target_transform(blade, &m).unwrap();
     assert_eq!(s.query_continuous().unwrap().len(), 1);
     let polys = |id: MeshId, _p: u32| -> Vec<u32> {
-        if id == membrane { vec![0, 1, 2, 3] } else { vec![0, 1, 2] }
+        if id == membrane {
+            vec![0, 1, 2, 3]
+        } else {
+            vec![0, 1, 2]
+        }
     };
     assert_eq!(check_impact_geometry(&mut s, &polys), 1);
     let g = s.impact_geometry().unwrap()[0];
@@ -534,7 +558,10 @@ fn impact_geometry_of_the_blade_and_the_hinge() {
     assert!(g.normal[2] < -0.99, "{g:?}");
     // A change of the targets: the geometry is refused until the next query.
     s.clear_target(blade).unwrap();
-    assert_eq!(s.impact_geometry().unwrap_err().kind, ErrorKind::InvalidArgument);
+    assert_eq!(
+        s.impact_geometry().unwrap_err().kind,
+        ErrorKind::InvalidArgument
+    );
     // The hinge folding through itself: the free vertex's edges or the vertex itself hit
     // the neighbour; the normal is the neighbour's (z), turned towards the folding one,
     // which comes from above.
@@ -544,9 +571,16 @@ fn impact_geometry_of_the_blade_and_the_hinge() {
         .create_mesh(Positions::from_points_f64(&p), &[0, 1, 2, 0, 1, 3], 3)
         .unwrap();
     h.set_self_collision(id, true).unwrap();
-    h.set_target_positions_f64(id, 3, &[[0.5, 0.5, -1.0]]).unwrap();
+    h.set_target_positions_f64(id, 3, &[[0.5, 0.5, -1.0]])
+        .unwrap();
     assert_eq!(h.query_continuous().unwrap().len(), 1);
-    let tri = |_: MeshId, p: u32| -> Vec<u32> { if p == 0 { vec![0, 1, 2] } else { vec![0, 1, 3] } };
+    let tri = |_: MeshId, p: u32| -> Vec<u32> {
+        if p == 0 {
+            vec![0, 1, 2]
+        } else {
+            vec![0, 1, 3]
+        }
+    };
     assert_eq!(check_impact_geometry(&mut h, &tri), 1);
     let g = h.impact_geometry().unwrap()[0];
     assert_eq!(g.kind, ImpactFeature::FaceVertex, "{g:?}");

@@ -351,7 +351,10 @@ fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
         if a.id == b.id {
             assert!(a.self_collision && q.polygon_a < q.polygon_b);
         } else {
-            assert!(a.collides_with(b) && a.id < b.id, "impact of filtered-out meshes");
+            assert!(
+                a.collides_with(b) && a.id < b.id,
+                "impact of filtered-out meshes"
+            );
         }
         assert!((0.0..=1.0).contains(&q.toi), "toi {}", q.toi);
         assert_eq!(q.toi == 0.0, q.flags & GLCOL_IMPACT_AT_START != 0, "{q:?}");
@@ -361,7 +364,10 @@ fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
         .filter(|q| q.flags & GLCOL_IMPACT_AT_START != 0)
         .map(key)
         .collect();
-    assert_eq!(at_start, start, "AT_START pairs differ from glcol_query_all's");
+    assert_eq!(
+        at_start, start,
+        "AT_START pairs differ from glcol_query_all's"
+    );
 }
 
 /// `glcol_query_geometry` after a successful query of `n` contacts or pairs: one entry

@@ -111,19 +111,20 @@ fn impact_geometry(
     let more = found.len().saturating_sub(s.impact_geometry.len());
     try_reserve(&mut s.impact_geometry, more, "the impact geometry")?;
     s.impact_geometry.clear();
-    s.impact_geometry.extend(found.iter().map(|g| GlcolImpactGeometry {
-        kind: match g.kind {
-            ImpactFeature::None => GLCOL_FEATURE_NONE,
-            ImpactFeature::VertexFace => GLCOL_FEATURE_VERTEX_FACE,
-            ImpactFeature::FaceVertex => GLCOL_FEATURE_FACE_VERTEX,
-            ImpactFeature::EdgeEdge => GLCOL_FEATURE_EDGE_EDGE,
-        },
-        vertices_a: g.vertices_a,
-        vertices_b: g.vertices_b,
-        weights_a: g.weights_a,
-        weights_b: g.weights_b,
-        normal: g.normal,
-    }));
+    s.impact_geometry
+        .extend(found.iter().map(|g| GlcolImpactGeometry {
+            kind: match g.kind {
+                ImpactFeature::None => GLCOL_FEATURE_NONE,
+                ImpactFeature::VertexFace => GLCOL_FEATURE_VERTEX_FACE,
+                ImpactFeature::FaceVertex => GLCOL_FEATURE_FACE_VERTEX,
+                ImpactFeature::EdgeEdge => GLCOL_FEATURE_EDGE_EDGE,
+            },
+            vertices_a: g.vertices_a,
+            vertices_b: g.vertices_b,
+            weights_a: g.weights_a,
+            weights_b: g.weights_b,
+            normal: g.normal,
+        }));
     // SAFETY: the glcol_query_impact_geometry caller's contract: both non-null (checked),
     // writable and aligned.
     unsafe { write_array(&s.impact_geometry, out_geometry, out_count) };

@@ -22,7 +22,6 @@
 //! * `tests/`: the ground truth of the simulation steps, an independent rational
 //!   reference, adversarial motions by construction, and the timing (ignored).
 
-
 mod apart;
 mod exact;
 mod filter;

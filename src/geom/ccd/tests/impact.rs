@@ -28,14 +28,12 @@
 //! interior, edge and corner, from either side and either winding; edges crossing; parallel
 //! edges end to end and side by side; coplanar sliding; degenerate triangles and edges;
 //! pairs meeting at the start with no relative motion), at the scales `2^-100`, 1, `2^100`
-//! (bit-identical answers) and the offset 1e6; random deforming motions; and the polygon
-//! pair's choice against a brute force, with its tie rules and the shared-vertex rule.
+//! (bit-identical answers) and the offset 1e6; random deforming motions. (The polygon pair's
+//! first primitive pair is the continuous query's: `tests/continuous.rs` checks it.)
 
+use super::super::impact::{ImpactPoint, NormalFrom};
 use super::super::predicate::Kind;
-use super::super::{
-    decide, edge_edge, edge_edge_impact, polygon_impact, vertex_face, vertex_face_impact, Feature,
-    ImpactPoint, MovingTriangle, NormalFrom, Points, PolygonImpact, Toi,
-};
+use super::super::{decide, edge_edge_impact, vertex_face_impact, Points, Toi};
 use super::reference::{dist2_at, inv_pow2, q, Q};
 use super::split;
 use super::truth::{has_truth, load, SCENES};
@@ -605,6 +603,36 @@ fn a_vertex_hits_a_triangle_inside_on_an_edge_and_at_a_corner() {
 }
 
 #[test]
+fn a_tangential_touch() {
+    // The triangle tilts about its edge on the x axis (f2 from (0, 4, 1) to (0, 4, -1));
+    // the vertex (1, 1 + t, 3/8 - 3t/4) stays above its plane, touching it at t = 1/2 only,
+    // at (1, 3/2, 0), inside: det(t) = 8 (t - 1/2)^2, a double root. At that time the
+    // vertex is in the plane and its relative velocity along the plane: only "just before"
+    // tells the side (above, +z), whichever way the triangle is wound.
+    let mut tally = Tally::default();
+    let v = [[1.0, 1.0, 0.375], [1.0, 2.0, -0.375]];
+    let (f0, f1) = ([0.0, 0.0, 0.0], [4.0, 0.0, 0.0]);
+    let f2 = [[0.0, 4.0, 1.0], [0.0, 4.0, -1.0]];
+    for wound in [true, false] {
+        let f = if wound {
+            [[f0, f1, f2[0]], [f0, f1, f2[1]]]
+        } else {
+            [[f0, f2[0], f1], [f0, f2[1], f1]]
+        };
+        let pts = vf_pts(v, f);
+        let (toi, ip) = judge_everywhere(Kind::VertexFace, &pts, &mut tally);
+        assert!((toi.t - 0.5).abs() <= 1.0 / (1 << 20) as f64, "{toi:?}");
+        assert!(ip.normal[2] > 0.99, "{ip:?}");
+        let at_touch = judge_at(Kind::VertexFace, &pts, 0.5);
+        assert!(
+            close(&at_touch.normal, &[0.0, 0.0, 1.0], 1e-12),
+            "{wound} {at_touch:?}"
+        );
+    }
+    eprintln!("tangential: {tally:?}");
+}
+
+#[test]
 fn edges_crossing_parallel_and_end_to_end() {
     let mut tally = Tally::default();
     // Crossing: a (along x) comes down onto b (along y, either direction).
@@ -958,275 +986,4 @@ fn the_checks_reject_broken_answers() {
         let long = broken(&|b| b.normal = b.normal.map(|x| 2.0 * x));
         assert!(check(kind, &pts, toi, &long).is_err());
     }
-}
-
-// ---------------------------------------------------------------------------------------
-// Polygon pairs.
-
-fn tri(c0: [P3; 3], c1: [P3; 3], vertices: [u32; 3]) -> MovingTriangle {
-    MovingTriangle {
-        corners: [c0, c1],
-        vertices,
-    }
-}
-
-fn lift(t: &[P3; 3], dz: f64) -> [P3; 3] {
-    t.map(|p| [p[0], p[1], p[2] + dz])
-}
-
-#[test]
-fn polygon_pairs_vertex_face_face_vertex_and_edge_edge() {
-    // b: the flat triangle standing still; a: a triangle above, its corner 7 pointing down.
-    let floor = [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]];
-    let b = [tri(floor, floor, [0, 1, 2])];
-    let spike = [[1.0, 1.0, 1.0], [1.0, 3.0, 3.0], [3.0, 1.0, 3.0]];
-    let a = [tri(spike, lift(&spike, -2.0), [7, 8, 9])];
-    let hit = polygon_impact(&a, &b, false, None).expect("meets");
-    assert_eq!(hit.kind, Feature::VertexFace);
-    assert_eq!((hit.vertices_a, hit.vertices_b), ([7; 3], [0, 1, 2]));
-    assert!((hit.toi.t - 0.5).abs() <= 1.0 / (1 << 20) as f64);
-    assert_eq!(hit.point.normal, [0.0, 0.0, 1.0]);
-    assert_eq!(hit.point.weights_a, [1.0, 0.0, 0.0]);
-    assert!(close(&hit.point.weights_b, &[0.5, 0.25, 0.25], 1e-12));
-    // Swapped: a's triangle, b's vertex; the normal from b (above) towards a.
-    let hit = polygon_impact(&b, &a, false, None).expect("meets");
-    assert_eq!(hit.kind, Feature::FaceVertex);
-    assert_eq!((hit.vertices_a, hit.vertices_b), ([0, 1, 2], [7; 3]));
-    assert_eq!(hit.point.normal, [0.0, 0.0, -1.0]);
-    assert_eq!(hit.point.weights_b, [1.0, 0.0, 0.0]);
-    assert!(close(&hit.point.weights_a, &[0.5, 0.25, 0.25], 1e-12));
-    // Edge-edge: a's edge (7, 8), sloping along x at y = 2, comes down; its lowest point
-    // over the floor is where it crosses b's edge (1, 2), at (2, 2, 0) and t = 0.6.
-    let ridge = [[-1.0, 2.0, 1.5], [4.0, 2.0, 1.0], [1.5, 2.0, 3.0]];
-    let a = [tri(ridge, lift(&ridge, -2.0), [8, 7, 9])];
-    let hit = polygon_impact(&a, &b, false, None).expect("meets");
-    assert_eq!(hit.kind, Feature::EdgeEdge);
-    assert_eq!((hit.vertices_a, hit.vertices_b), ([7, 8, 8], [1, 2, 2]));
-    assert!((hit.toi.t - 0.6).abs() <= 1.0 / (1 << 20) as f64);
-    // (7 -> 8) x (1 -> 2) = (-2, -2, -20), turned up.
-    let s = 1.0 / 102f64.sqrt();
-    assert!(
-        close(&hit.point.normal, &[s, s, 10.0 * s], 1e-12),
-        "{hit:?}"
-    );
-    // 7 at x = 4, 8 at x = -1: x = 2 is 3/5 of the way from 8.
-    assert!(
-        close(&hit.point.weights_a, &[0.6, 0.4, 0.0], 1e-6),
-        "{hit:?}"
-    );
-    assert!(
-        close(&hit.point.weights_b, &[0.5, 0.5, 0.0], 1e-6),
-        "{hit:?}"
-    );
-    // Apart.
-    let high = [tri(lift(&spike, 5.0), lift(&spike, 4.0), [7, 8, 9])];
-    assert_eq!(polygon_impact(&high, &b, false, None), None);
-}
-
-#[test]
-fn polygon_pairs_of_one_mesh_skip_shared_vertices() {
-    // Two triangles of one mesh sharing vertex 0; b's far corner 4 comes down onto a.
-    let a = [tri(
-        [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]],
-        [[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]],
-        [0, 1, 2],
-    )];
-    let b = [tri(
-        [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [-1.0, 0.0, 1.0]],
-        [[0.0, 0.0, 0.0], [1.0, 1.0, -1.0], [-1.0, 0.0, 1.0]],
-        [0, 4, 5],
-    )];
-    let hit = polygon_impact(&a, &b, true, None).expect("meets");
-    assert!(!hit.toi.at_start);
-    assert_eq!((hit.kind, hit.vertices_b), (Feature::FaceVertex, [4; 3]));
-    assert_eq!(hit.point.normal, [0.0, 0.0, -1.0]);
-    // Not one mesh: the shared corner meets at the start.
-    let hit = polygon_impact(&a, &b, false, None).expect("meets");
-    assert!(hit.toi.at_start && hit.toi.t == 0.0);
-    assert_eq!(
-        (hit.kind, hit.vertices_a, hit.vertices_b),
-        (Feature::VertexFace, [0; 3], [0, 4, 5])
-    );
-}
-
-/// A primitive pair the brute force chose: time of impact, kind, vertices of a and b, and
-/// the primitive with its points.
-type Chosen = (Toi, Feature, [u32; 3], [u32; 3], Kind, Points);
-
-/// The brute force: every primitive pair of every triangle pair (no sharing of work), the
-/// least by the documented order.
-fn brute_force(a: &[MovingTriangle], b: &[MovingTriangle]) -> Option<Chosen> {
-    type Best = Chosen;
-    let mut best: Option<Best> = None;
-    let mut offer = |c: Best| {
-        let key = |c: &Best| (c.0.t, !c.0.at_start, c.1, c.2, c.3);
-        if best
-            .as_ref()
-            .is_none_or(|b| key(&c).partial_cmp(&key(b)) == Some(std::cmp::Ordering::Less))
-        {
-            best = Some(c);
-        }
-    };
-    let path = |t: &MovingTriangle, c: usize| [t.corners[0][c], t.corners[1][c]];
-    // The documented rotation: a triangle's smallest index first.
-    let rotated = |t: &MovingTriangle| {
-        let k = (0..3).min_by_key(|&k| t.vertices[k]).expect("three");
-        MovingTriangle {
-            corners: t.corners.map(|c| std::array::from_fn(|i| c[(k + i) % 3])),
-            vertices: std::array::from_fn(|i| t.vertices[(k + i) % 3]),
-        }
-    };
-    let a: Vec<MovingTriangle> = a.iter().map(rotated).collect();
-    let b: Vec<MovingTriangle> = b.iter().map(rotated).collect();
-    for ta in &a {
-        for tb in &b {
-            for (x, y, kind) in [(ta, tb, Feature::VertexFace), (tb, ta, Feature::FaceVertex)] {
-                for c in 0..3 {
-                    let pts = vf_pts(path(x, c), y.corners);
-                    if let Some(toi) = vertex_face(path(x, c), y.corners) {
-                        let (va, vb) = if kind == Feature::VertexFace {
-                            ([x.vertices[c]; 3], y.vertices)
-                        } else {
-                            (y.vertices, [x.vertices[c]; 3])
-                        };
-                        offer((toi, kind, va, vb, Kind::VertexFace, pts));
-                    }
-                }
-            }
-            for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-                for (k, l) in [(0, 1), (1, 2), (2, 0)] {
-                    let order = |t: &MovingTriangle, i: usize, j: usize| {
-                        if t.vertices[i] <= t.vertices[j] {
-                            (i, j)
-                        } else {
-                            (j, i)
-                        }
-                    };
-                    let (i, j) = order(ta, i, j);
-                    let (k, l) = order(tb, k, l);
-                    let ea = [0, 1].map(|e| [ta.corners[e][i], ta.corners[e][j]]);
-                    let eb = [0, 1].map(|e| [tb.corners[e][k], tb.corners[e][l]]);
-                    if let Some(toi) = edge_edge(ea, eb) {
-                        let va = [ta.vertices[i], ta.vertices[j], ta.vertices[j]];
-                        let vb = [tb.vertices[k], tb.vertices[l], tb.vertices[l]];
-                        offer((
-                            toi,
-                            Feature::EdgeEdge,
-                            va,
-                            vb,
-                            Kind::EdgeEdge,
-                            ee_pts(ea, eb),
-                        ));
-                    }
-                }
-            }
-        }
-    }
-    best
-}
-
-/// A random quad (two triangles sharing the diagonal 0-2) or triangle, deforming.
-fn random_polygon(rng: &mut Rng, base: u32, quad: bool) -> Vec<MovingTriangle> {
-    let ids = [base, base + 1, base + 2, base + 3];
-    let corners: Vec<[P3; 2]> = (0..4)
-        .map(|_| [grid_point(rng, 4, 4.0), grid_point(rng, 4, 4.0)])
-        .collect();
-    let t = |i: usize, j: usize, k: usize| {
-        tri(
-            [corners[i][0], corners[j][0], corners[k][0]],
-            [corners[i][1], corners[j][1], corners[k][1]],
-            [ids[i], ids[j], ids[k]],
-        )
-    };
-    if quad {
-        vec![t(0, 1, 2), t(0, 2, 3)]
-    } else {
-        vec![t(0, 1, 2)]
-    }
-}
-
-/// The same polygon with its triangles in the other order and their corners rotated.
-fn reordered(p: &[MovingTriangle]) -> Vec<MovingTriangle> {
-    p.iter()
-        .rev()
-        .map(|t| MovingTriangle {
-            corners: t.corners.map(|c| [c[1], c[2], c[0]]),
-            vertices: [t.vertices[1], t.vertices[2], t.vertices[0]],
-        })
-        .collect()
-}
-
-#[test]
-fn polygon_pairs_against_a_brute_force() {
-    let mut rng = Rng(0x9017_6055);
-    let (mut met, mut kinds) = (0, [0usize; 4]);
-    for round in 0..600 {
-        let a = random_polygon(&mut rng, 10, round % 2 == 0);
-        let b = random_polygon(&mut rng, 20, round % 3 != 0);
-        let got: Option<PolygonImpact> = polygon_impact(&a, &b, false, None);
-        let want = brute_force(&a, &b);
-        match (&got, &want) {
-            (None, None) => {}
-            (Some(g), Some((toi, kind, va, vb, pk, pts))) => {
-                met += 1;
-                kinds[*kind as usize] += 1;
-                assert_eq!(
-                    (g.toi, g.kind, g.vertices_a, g.vertices_b),
-                    (*toi, *kind, *va, *vb)
-                );
-                // The geometry: the primitive's, in the polygon's order.
-                let ip = geometry(*pk, pts, toi.t);
-                let expected = if *kind == Feature::FaceVertex {
-                    ImpactPoint {
-                        weights_a: ip.weights_b,
-                        weights_b: ip.weights_a,
-                        normal: ip.normal.map(|x| -x),
-                        normal_from: ip.normal_from,
-                    }
-                } else {
-                    ip
-                };
-                assert_eq!(g.point, expected);
-                check(*pk, pts, *toi, &ip).unwrap_or_else(|e| panic!("{e}: {g:?}"));
-            }
-            _ => panic!("got {got:?}, the brute force {want:?}"),
-        }
-        // The order of the triangles and of their corners does not matter.
-        assert_eq!(
-            polygon_impact(&reordered(&a), &reordered(&b), false, None),
-            got
-        );
-    }
-    eprintln!("polygon pairs: {met} of 600 meet, by kind {kinds:?}");
-    assert!(met > 100 && kinds[1] > 0 && kinds[2] > 0 && kinds[3] > 0);
-}
-
-#[test]
-fn polygon_pair_ties_are_deterministic() {
-    // A vertex coming down exactly onto the diagonal (0, 2) of a quad: both triangles meet
-    // it at the same time; the smaller vertex indices win: (0, 1, 2) before (0, 2, 3).
-    let c = [
-        [0.0, 0.0, 0.0],
-        [2.0, 0.0, 0.0],
-        [2.0, 2.0, 0.0],
-        [0.0, 2.0, 0.0],
-    ];
-    let quad = [
-        tri([c[0], c[2], c[3]], [c[0], c[2], c[3]], [0, 2, 3]),
-        tri([c[0], c[1], c[2]], [c[0], c[1], c[2]], [0, 1, 2]),
-    ];
-    let s = [[1.0, 1.0, 1.0], [5.0, 1.0, 3.0], [1.0, 5.0, 3.0]];
-    let a = [tri(s, lift(&s, -2.0), [9, 10, 11])];
-    let hit = polygon_impact(&a, &quad, false, None).expect("meets");
-    assert_eq!(
-        (hit.kind, hit.vertices_a, hit.vertices_b),
-        (Feature::VertexFace, [9; 3], [0, 1, 2])
-    );
-    assert_eq!(hit.point.normal, [0.0, 0.0, 1.0]);
-    assert!(
-        close(&hit.point.weights_b, &[0.5, 0.0, 0.5], 1e-12),
-        "{hit:?}"
-    );
-    let swapped = [quad[1], quad[0]];
-    assert_eq!(polygon_impact(&a, &swapped, false, None), Some(hit));
 }
