@@ -8,7 +8,9 @@
  * as its target transform, the membrane's next positions as its target positions), asks
  * glcol_query_continuous, and, when something would be hit, advances every vertex only to a
  * fraction of the earliest toi (0.9 of it: no new contact) and stops the blade there, the
- * response a simulator would apply. Prints both, step by step.
+ * response a simulator would apply; glcol_query_impact_geometry tells where the first contact
+ * happens (which vertex on which face, or which edges, and the normal). Prints both, step by
+ * step.
  *
  *   make -C examples-c && examples-c/build/continuous_step [meshes_dir]
  */
@@ -115,8 +117,24 @@ int main(int argc, char **argv) {
         size_t n_hits;
         CHECK(glcol_query_continuous(scene, &hits, &n_hits));
         double toi = 1.0;
+        size_t first = 0;
+        char where[256] = "";
         for (size_t k = 0; k < n_hits; k++)
-            if (hits[k].toi < toi) toi = hits[k].toi;
+            if (hits[k].toi < toi) toi = hits[k].toi, first = k;
+        if (n_hits > 0) {
+            /* Where the first contact happens: the features, their weights and the normal a
+             * response pushes along (from b, the blade, towards a, the membrane). */
+            const GlcolImpactGeometry *g;
+            size_t n_g;
+            CHECK(glcol_query_impact_geometry(scene, &g, &n_g));
+            const char *kinds[] = {"none", "vertex-face", "face-vertex", "edge-edge"};
+            snprintf(where, sizeof where, "     first contact: %s, membrane vertices %u %u %u, blade vertices %u %u %u, "
+                   "normal (%.3f, %.3f, %.3f)\n",
+                   kinds[g[first].kind], g[first].vertices_a[0], g[first].vertices_a[1],
+                   g[first].vertices_a[2], g[first].vertices_b[0], g[first].vertices_b[1],
+                   g[first].vertices_b[2], g[first].normal[0], g[first].normal[1],
+                   g[first].normal[2]);
+        }
 
         /* Advance to a fraction of the earliest toi (all of the step when nothing is hit):
          * every vertex to p0 + s (p1 - p0), which creates no new contact for s < toi. */
@@ -146,8 +164,8 @@ int main(int argc, char **argv) {
         CHECK(glcol_query_all(probe, &pairs, &n_end));
         glcol_scene_destroy(probe);
 
-        printf("%4d | %zu, %zu | %zu | %.6f | %.6f%s\n", step, n_start, n_end, n_hits,
-               n_hits ? toi : 1.0, s, n_hits ? " (blade stopped)" : "");
+        printf("%4d | %zu, %zu | %zu | %.6f | %.6f%s\n%s", step, n_start, n_end, n_hits,
+               n_hits ? toi : 1.0, s, n_hits ? " (blade stopped)" : "", where);
     }
     glcol_scene_destroy(scene);
     glcol_obj_free(&blade_obj);
