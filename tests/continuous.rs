@@ -411,11 +411,70 @@ fn the_c_entry_point() {
             GlcolStatus::NullPointer
         );
         assert_eq!(n, usize::MAX, "nothing written on failure");
+        // The impact geometry: refused before a continuous query (nothing written).
+        let (mut g, mut ng) = (std::ptr::null(), usize::MAX);
+        assert_eq!(
+            glcol_query_impact_geometry(scene, &mut g, &mut ng),
+            GlcolStatus::InvalidArgument
+        );
+        assert_eq!(ng, usize::MAX);
         assert_eq!(
             glcol_query_continuous(scene, &mut out, &mut n),
             GlcolStatus::Ok
         );
         assert_eq!((out, n), (std::ptr::null(), 0));
+        assert_eq!(
+            glcol_query_impact_geometry(scene, std::ptr::null_mut(), &mut ng),
+            GlcolStatus::NullPointer
+        );
+        assert_eq!(
+            glcol_query_impact_geometry(scene, &mut g, &mut ng),
+            GlcolStatus::Ok
+        );
+        assert_eq!((g, ng), (std::ptr::null(), 0));
+        // A blade through a membrane: one impact, its geometry, then a target change makes
+        // the geometry refuse until the next continuous query.
+        let quad = [0f32, 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0.];
+        let tri = [0.4f32, 0.4, 1.0, 0.6, 0.4, 1.0, 0.5, 0.6, 1.5];
+        let add = |p: &[f32], idx: &[u32], k: u32| {
+            let mut md = std::mem::zeroed::<GlcolMeshDesc>();
+            glcol_mesh_desc_init_sized(&mut md, std::mem::size_of::<GlcolMeshDesc>());
+            md.positions = p.as_ptr();
+            md.vertex_count = p.len() / 3;
+            md.indices = idx.as_ptr();
+            md.polygon_count = idx.len() / k as usize;
+            md.vertices_per_polygon = k;
+            let mut id = 0;
+            assert_eq!(glcol_mesh_create(scene, &md, &mut id), GlcolStatus::Ok);
+            id
+        };
+        let _membrane = add(&quad, &[0, 1, 2, 3], 4);
+        let blade = add(&tri, &[0, 1, 2], 3);
+        let m = [1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., -2.];
+        assert_eq!(
+            glcol_mesh_set_target_transform(scene, blade, m.as_ptr()),
+            GlcolStatus::Ok
+        );
+        assert_eq!(
+            glcol_query_continuous(scene, &mut out, &mut n),
+            GlcolStatus::Ok
+        );
+        assert_eq!(n, 1);
+        let hit = *out;
+        assert!(hit.toi <= 0.5 && hit.toi >= 0.5 - 2f64.powi(-20) && hit.flags == 0);
+        assert_eq!(
+            glcol_query_impact_geometry(scene, &mut g, &mut ng),
+            GlcolStatus::Ok
+        );
+        assert_eq!(ng, 1);
+        let geo = *g;
+        assert_ne!(geo.kind, GLCOL_FEATURE_NONE);
+        assert!(geo.normal[2] < -0.99, "{geo:?}");
+        assert_eq!(glcol_mesh_clear_target(scene, blade), GlcolStatus::Ok);
+        assert_eq!(
+            glcol_query_impact_geometry(scene, &mut g, &mut ng),
+            GlcolStatus::InvalidArgument
+        );
         glcol_scene_destroy(scene);
     }
     // The band is refused with a message, nothing else changed.
