@@ -265,7 +265,7 @@ typedef struct GlcolImpactGeometry {
   // mesh_b's vertex indices of b's feature, likewise.
   uint32_t vertices_b[3];
   // Barycentric weights (each in [0, 1], summing to 1) of the contact point on a's
-  // feature at toi: point_a = sum of weights_a[k] * p(toi) of vertices_a[k]; unused
+  // feature at toi: `point_a = sum of weights_a[k] * p(toi) of vertices_a[k]`; unused
   // weights 0.
   double weights_a[3];
   // The same on b's feature.

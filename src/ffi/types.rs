@@ -263,7 +263,7 @@ pub struct GlcolImpactGeometry {
     /// mesh_b's vertex indices of b's feature, likewise.
     pub vertices_b: [u32; 3],
     /// Barycentric weights (each in [0, 1], summing to 1) of the contact point on a's
-    /// feature at toi: point_a = sum of weights_a[k] * p(toi) of vertices_a[k]; unused
+    /// feature at toi: `point_a = sum of weights_a[k] * p(toi) of vertices_a[k]`; unused
     /// weights 0.
     pub weights_a: [f64; 3],
     /// The same on b's feature.

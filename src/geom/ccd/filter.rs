@@ -245,7 +245,16 @@ fn certain_signs(b: &Bern) -> Option<[i8; 4]> {
 }
 
 /// The filter's verdict on a query.
+#[cfg(test)]
 pub(super) fn filter(kind: Kind, pts: &Points) -> Verdict {
+    filter_before(kind, pts, 1.0)
+}
+
+/// The filter's verdict on a query, looking only for meetings before `t_max` (in `(0, 1]`):
+/// a query that first meets at `t_max` or later may answer Apart. (A caller that already
+/// knows a meeting at `t_max` needs no later one: the continuous query's earliest primitive
+/// pair of a polygon pair.)
+pub(super) fn filter_before(kind: Kind, pts: &Points, t_max: f64) -> Verdict {
     let finite_small = pts.iter().flatten().flatten().all(|x| x.abs() <= MAX_COORD);
     if !finite_small {
         return Verdict::Undecided;
@@ -288,6 +297,7 @@ pub(super) fn filter(kind: Kind, pts: &Points) -> Verdict {
         split,
         pieces: 0,
         at: &at,
+        t_max,
     };
     if bern.iter().all(|b| b.sign() == Some(0)) {
         // Coplanar throughout (exactly, as the enclosures show).
@@ -406,6 +416,8 @@ struct Search<'a, F: Fn(f64) -> Box4> {
     split: usize,
     pieces: u32,
     at: &'a F,
+    /// Meetings from this time on are not looked for (see [`filter_before`]).
+    t_max: f64,
 }
 
 impl<F: Fn(f64) -> Box4> Search<'_, F> {
@@ -425,12 +437,23 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
     /// The piece `[ta, tb]` of a step whose cubic is not identically zero, its Bernstein
     /// coefficients `b`: its roots isolated (earliest first) and the test decided at each.
     fn roots(&mut self, b: &Bern, ta: f64, tb: f64, depth: u32) -> Piece {
+        if ta >= self.t_max {
+            // Every root here is at t_max or later.
+            return Piece::Apart;
+        }
         if let Some(s) = certain_signs(b) {
             if s.iter().all(|&x| x == s[0]) {
                 // No root: never coplanar here.
                 return Piece::Apart;
             }
             let variations = s.windows(2).filter(|w| w[0] != w[1]).count();
+            if variations == 1
+                && tb > self.t_max
+                && eval_iv(&self.whole, self.t_max).sign() == Some(s[0])
+            {
+                // The one root is after t_max: the cubic still has its sign at ta there.
+                return Piece::Apart;
+            }
             if variations == 1 {
                 // Exactly one root, simple, inside.
                 return self.root(*b, ta, tb, depth);
@@ -519,6 +542,9 @@ impl<F: Fn(f64) -> Box4> Search<'_, F> {
     /// The piece `[ta, tb]` of a step coplanar throughout, the points enclosed at its ends
     /// by `pa`, `pb`: bisected, earliest first, until decided.
     fn piece(&mut self, ta: f64, tb: f64, pa: &Box4, pb: &Box4, depth: u32) -> Piece {
+        if ta >= self.t_max {
+            return Piece::Apart;
+        }
         self.pieces += 1;
         let hull: Box4 =
             std::array::from_fn(|i| std::array::from_fn(|ax| pa[i][ax].hull(pb[i][ax])));

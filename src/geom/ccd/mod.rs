@@ -63,12 +63,16 @@ pub(crate) enum Stage {
 /// Does the moving vertex `v` (`[start, end]`) touch the moving closed triangle `f`
 /// (`[its three vertices at the start, at the end]`) at some time in `[0, 1]`, and when
 /// first? Coordinates must be finite.
+// The whole-step tests: the primitive tests' own tests and benchmarks (the continuous query
+// asks the `_before` forms).
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn vertex_face(v: [P3; 2], f: [[P3; 3]; 2]) -> Option<Toi> {
     decide(Kind::VertexFace, &vertex_face_points(v, f)).0
 }
 
 /// Do the moving closed segments `a` and `b` (each `[its two ends at the start, at the
 /// end]`) touch at some time in `[0, 1]`, and when first? Coordinates must be finite.
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn edge_edge(a: [[P3; 2]; 2], b: [[P3; 2]; 2]) -> Option<Toi> {
     decide(Kind::EdgeEdge, &edge_edge_points(a, b)).0
 }
@@ -91,10 +95,28 @@ fn edge_edge_points(a: [[P3; 2]; 2], b: [[P3; 2]; 2]) -> Points {
     ]
 }
 
+/// [`vertex_face`], looking only for a meeting before `t_max` (in `(0, 1]`): a pair that
+/// first meets at `t_max` or later may answer None (a caller that knows of a meeting at
+/// `t_max` needs no later one). A time it gives is the same as [`vertex_face`]'s.
+pub fn vertex_face_before(v: [P3; 2], f: [[P3; 3]; 2], t_max: f64) -> Option<Toi> {
+    decide_before(Kind::VertexFace, &vertex_face_points(v, f), t_max).0
+}
+
+/// [`edge_edge`], looking only for a meeting before `t_max` (as [`vertex_face_before`]).
+pub fn edge_edge_before(a: [[P3; 2]; 2], b: [[P3; 2]; 2], t_max: f64) -> Option<Toi> {
+    decide_before(Kind::EdgeEdge, &edge_edge_points(a, b), t_max).0
+}
+
 /// The answer, and which stage gave it.
+#[cfg_attr(not(test), allow(dead_code))]
 fn decide(kind: Kind, pts: &Points) -> (Option<Toi>, Stage) {
+    decide_before(kind, pts, 1.0)
+}
+
+/// [`decide`] looking only for meetings before `t_max`.
+fn decide_before(kind: Kind, pts: &Points, t_max: f64) -> (Option<Toi>, Stage) {
     debug_assert!(pts.iter().flatten().flatten().all(|x| x.is_finite()));
-    match filter::filter(kind, pts) {
+    match filter::filter_before(kind, pts, t_max) {
         filter::Verdict::Apart => (None, Stage::Filter),
         filter::Verdict::Meets(t) => (Some(t), Stage::Filter),
         filter::Verdict::Undecided => (exact::decide(kind, pts), Stage::Exact),

@@ -24,7 +24,7 @@
 //! the joint): the primitives report it, the point-set rule does not.
 
 use super::apart::{apart_along, apart_on_axes, cross, max_abs, sub};
-use super::{edge_edge, vertex_face, Toi};
+use super::{edge_edge_before, vertex_face_before, Toi};
 use crate::geom::adjacent::adjacent_polygons_meet;
 use crate::geom::tritri::triangles_intersect;
 use crate::geom::P3;
@@ -128,6 +128,15 @@ fn near(a: &([f64; 3], [f64; 3]), b: &([f64; 3], [f64; 3]), d: f64) -> bool {
     (0..3).all(|k| a.1[k] - b.0[k] >= -d && b.1[k] - a.0[k] >= -d)
 }
 
+/// Where the remaining primitive pairs need to look: before the earliest time found so far.
+/// A primitive pair that first meets at that time or later changes nothing: the time found
+/// is at most `2^-20` below the exact time of its own primitive pair, so also below that of
+/// the pair's first meeting, which is no later.
+fn before(best: &Option<(Toi, First)>) -> f64 {
+    best.as_ref()
+        .map_or(1.0, |(t, _)| t.t.max(f64::MIN_POSITIVE))
+}
+
 /// The earlier of two answers (the first one kept on a tie: the order of the calls below
 /// is fixed, so the choice is too).
 fn keep_earlier(best: &mut Option<(Toi, First)>, t: Option<Toi>, f: impl FnOnce() -> First) {
@@ -153,14 +162,14 @@ fn canonical(e: MovingEdge) -> MovingEdge {
     }
 }
 
-/// [`edge_edge`] of two moving edges, asked in the canonical order.
-fn edge_pair(a: MovingEdge, b: MovingEdge) -> Option<Toi> {
+/// [`edge_edge_before`] of two moving edges, asked in the canonical order.
+fn edge_pair(a: MovingEdge, b: MovingEdge, t_max: f64) -> Option<Toi> {
     let (a, b) = (canonical(a), canonical(b));
     let key = |e: &MovingEdge| e.map(|w| w.map(|p| p.map(f64::to_bits)));
     if key(&b) < key(&a) {
-        edge_edge(b, a)
+        edge_edge_before(b, a, t_max)
     } else {
-        edge_edge(a, b)
+        edge_edge_before(a, b, t_max)
     }
 }
 
@@ -211,9 +220,8 @@ pub fn polygons_first_meet(
             let edge = |p: &MovingPolygon, e: &[usize; 2]| -> MovingEdge {
                 [e.map(|c| p.p[0][c]), e.map(|c| p.p[1][c])]
             };
-            keep_earlier(&mut best, edge_pair(edge(a, ea), edge(b, eb)), || {
-                First::EdgeEdge { a: ia, b: ib }
-            });
+            let hit = edge_pair(edge(a, ea), edge(b, eb), before(&best));
+            keep_earlier(&mut best, hit, || First::EdgeEdge { a: ia, b: ib });
         }
     }
     best
@@ -260,7 +268,11 @@ fn vertices_on_faces(
             if !near(&bv, &f.swept_box(t), 0.0) {
                 continue;
             }
-            let hit = vertex_face([v.p[0][c], v.p[1][c]], [f.triangle(t, 0), f.triangle(t, 1)]);
+            let hit = vertex_face_before(
+                [v.p[0][c], v.p[1][c]],
+                [f.triangle(t, 0), f.triangle(t, 1)],
+                before(best),
+            );
             let fi = t.map(|k| f.ids[k]);
             keep_earlier(best, hit, || {
                 if swapped {
