@@ -244,12 +244,6 @@ fn certain_signs(b: &Bern) -> Option<[i8; 4]> {
     Some(s)
 }
 
-/// The filter's verdict on a query.
-#[cfg(test)]
-pub(super) fn filter(kind: Kind, pts: &Points) -> Verdict {
-    filter_before(kind, pts, 1.0)
-}
-
 /// The filter's verdict on a query, looking only for meetings before `t_max` (in `(0, 1]`):
 /// a query that first meets at `t_max` or later may answer Apart. (A caller that already
 /// knows a meeting at `t_max` needs no later one: the continuous query's earliest primitive
