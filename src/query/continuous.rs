@@ -308,7 +308,7 @@ pub fn narrow(
             stats.polygon_pairs += 1;
             let (a, b) = (sa.polygon(ma.mesh, pa), sb.polygon(mb.mesh, pb));
             let adjacent = own && shares_vertex(&a.ids[..a.k], &b.ids[..b.k]);
-            let Some((toi, first)) = polygons_first_meet(&a, &b, adjacent) else {
+            let Some((toi, first)) = polygons_first_meet(&a, &b, adjacent, d) else {
                 continue;
             };
             let (ia, ib) = (ma.mesh.poly_ids[pa], mb.mesh.poly_ids[pb]);

@@ -19,10 +19,12 @@
 use crate::geom::P3;
 
 /// Side of `b` relative to `a` along `n` at one instant, certain: `1` when `b` lies wholly
-/// above `a`, `-1` below, `0` when not certain. `a` and `b` are the points at that instant.
+/// above `a` by more than `gap`, `-1` below, `0` when not certain. `a` and `b` are the
+/// points at that instant; `bound` the rounding of one projection.
 fn side<'p>(
     n: &P3,
     bound: f64,
+    gap: f64,
     a: impl Iterator<Item = &'p P3>,
     b: impl Iterator<Item = &'p P3>,
 ) -> i8 {
@@ -33,31 +35,50 @@ fn side<'p>(
             })
     };
     let (a, b) = (range(&mut { a }), range(&mut { b }));
-    if a.1 + bound < b.0 - bound {
+    // A difference of the rounded projections rounds monotonically: when it exceeds the
+    // rounding of both plus the gap, so does the exact one.
+    let need = 2.0 * bound + gap;
+    if b.0 - a.1 > need {
         1
-    } else if b.1 + bound < a.0 - bound {
+    } else if a.0 - b.1 > need {
         -1
     } else {
         0
     }
 }
 
-/// Are the moving points `a` and `b` (each `[start, end]`) apart for the whole step along
-/// direction `n` (see the module's documentation)? `maxabs`: the largest magnitude of any
-/// of their coordinates.
-pub fn apart_along(n: &P3, a: &[[P3; 2]], b: &[[P3; 2]], maxabs: f64) -> bool {
+/// Are the moving points `a` and `b` (each `[start, end]`) more than `d` apart for the whole
+/// step along direction `n` (see the module's documentation)? `maxabs`: the largest
+/// magnitude of any of their coordinates. The gap along `n` is measured in units of `|n|`:
+/// `d |n|_1 >= d |n|_2` stands for `d` (and `1e-15` more for its own rounding).
+pub fn apart_along(n: &P3, a: &[[P3; 2]], b: &[[P3; 2]], maxabs: f64, d: f64) -> bool {
     let l1 = n[0].abs() + n[1].abs() + n[2].abs();
     if !(l1 > 0.0 && l1.is_finite()) {
         return false;
     }
     let bound = 2e-15 * l1 * maxabs + 1e-290;
-    let s0 = side(n, bound, a.iter().map(|p| &p[0]), b.iter().map(|p| &p[0]));
-    s0 != 0 && side(n, bound, a.iter().map(|p| &p[1]), b.iter().map(|p| &p[1])) == s0
+    let gap = d * l1 * (1.0 + 1e-15);
+    let s0 = side(
+        n,
+        bound,
+        gap,
+        a.iter().map(|p| &p[0]),
+        b.iter().map(|p| &p[0]),
+    );
+    s0 != 0
+        && side(
+            n,
+            bound,
+            gap,
+            a.iter().map(|p| &p[1]),
+            b.iter().map(|p| &p[1]),
+        ) == s0
 }
 
-/// Are the moving points `a` and `b` apart for the whole step along a coordinate axis?
-/// Exact (plain comparisons of the given doubles).
-pub fn apart_on_axes(a: &[[P3; 2]], b: &[[P3; 2]]) -> bool {
+/// Are the moving points `a` and `b` more than `d` apart for the whole step along a
+/// coordinate axis? Exact for `d = 0` (plain comparisons of the given doubles); for `d > 0`
+/// the difference of two doubles rounds monotonically and `d` is a double.
+pub fn apart_on_axes(a: &[[P3; 2]], b: &[[P3; 2]], d: f64) -> bool {
     (0..3).any(|k| {
         let side = |w: usize| {
             let range = |s: &[[P3; 2]]| {
@@ -68,9 +89,9 @@ pub fn apart_on_axes(a: &[[P3; 2]], b: &[[P3; 2]]) -> bool {
                     })
             };
             let (ra, rb) = (range(a), range(b));
-            if ra.1 < rb.0 {
+            if rb.0 - ra.1 > d {
                 1
-            } else if rb.1 < ra.0 {
+            } else if ra.0 - rb.1 > d {
                 -1
             } else {
                 0

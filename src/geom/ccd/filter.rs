@@ -332,11 +332,11 @@ fn swept_apart(b: &Box4, split: usize) -> bool {
 /// body moving as a whole) before any root is looked for.
 fn fixed_axes_apart(pts: &Points, split: usize) -> bool {
     let (a, b) = pts.split_at(split);
-    if apart_on_axes(a, b) {
+    if apart_on_axes(a, b, 0.0) {
         return true;
     }
     let maxabs = max_abs(a, b);
-    let apart = |n: &P3| apart_along(n, a, b, maxabs);
+    let apart = |n: &P3| apart_along(n, a, b, maxabs, 0.0);
     let at = |i: usize, w: usize| &pts[i][w];
     let mid = |p: &P3, q: &P3| -> P3 { std::array::from_fn(|k| 0.5 * p[k] + 0.5 * q[k]) };
     if split == 1 {

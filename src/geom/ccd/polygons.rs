@@ -181,8 +181,9 @@ pub fn polygons_first_meet(
     a: &MovingPolygon,
     b: &MovingPolygon,
     adjacent: bool,
+    d: f64,
 ) -> Option<(Toi, First)> {
-    if !adjacent && polygons_apart(a, b) {
+    if !adjacent && polygons_apart(a, b, d) {
         return None;
     }
     let (ta, tb) = (a.start_triangles(), b.start_triangles());
@@ -227,15 +228,15 @@ pub fn polygons_first_meet(
     best
 }
 
-/// Are the polygons apart for the whole step along a coordinate axis or a triangle's
+/// Are the polygons more than `d` apart for the whole step along a coordinate axis or a triangle's
 /// normal at either end (see [`super::apart`])? One test instead of fifteen primitive
 /// pairs for most candidates.
-fn polygons_apart(a: &MovingPolygon, b: &MovingPolygon) -> bool {
+fn polygons_apart(a: &MovingPolygon, b: &MovingPolygon, d: f64) -> bool {
     let moving =
         |m: &MovingPolygon| -> [[P3; 2]; 4] { std::array::from_fn(|c| [m.p[0][c], m.p[1][c]]) };
     let (pa, pb) = (moving(a), moving(b));
     let (pa, pb) = (&pa[..a.k], &pb[..b.k]);
-    if apart_on_axes(pa, pb) {
+    if apart_on_axes(pa, pb, d) {
         return true;
     }
     let maxabs = max_abs(pa, pb);
@@ -243,7 +244,7 @@ fn polygons_apart(a: &MovingPolygon, b: &MovingPolygon) -> bool {
         m.tris().iter().any(|t| {
             (0..2).any(|w| {
                 let [p, q, r] = m.triangle(t, w);
-                apart_along(&cross(&sub(&q, &p), &sub(&r, &p)), pa, pb, maxabs)
+                apart_along(&cross(&sub(&q, &p), &sub(&r, &p)), pa, pb, maxabs, d)
             })
         })
     })

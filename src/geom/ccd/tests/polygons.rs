@@ -112,7 +112,7 @@ fn corners(rng: &mut Rng, flavor: &str) -> [P3; 4] {
 
 /// Checks `polygons_first_meet` against the reference on one pair.
 fn judge(a: &MovingPolygon, b: &MovingPolygon) -> Option<Toi> {
-    let got = polygons_first_meet(a, b, false).map(|r| r.0);
+    let got = polygons_first_meet(a, b, false, 0.0).map(|r| r.0);
     let truth = reference(a, b, 26);
     match (got, &truth) {
         (None, None) => {}
@@ -132,7 +132,7 @@ fn judge(a: &MovingPolygon, b: &MovingPolygon) -> Option<Toi> {
         _ => panic!("got {got:?}, the reference says {truth:?}: {a:?} {b:?}"),
     }
     // The same question with the polygons swapped gets the same time, to the bit.
-    let swapped = polygons_first_meet(b, a, false).map(|r| r.0);
+    let swapped = polygons_first_meet(b, a, false, 0.0).map(|r| r.0);
     assert_eq!(got, swapped, "{a:?} {b:?}");
     got
 }
