@@ -31,9 +31,10 @@ examples-c/build/api_errors
 examples-c/build/readme_example
 examples-c/build/abi_v01 data
 examples-c/build/continuous_step data
-# README.md shows examples-c/readme_example.c (from its #include on): keep the two identical.
+# README.md's first C block shows examples-c/readme_example.c (from its #include on): keep the
+# two identical.
 diff -u <(sed -n '/^#include <glcollide.h>/,$p' examples-c/readme_example.c) \
-  <(sed -n '/^```c$/,/^```$/p' README.md | sed '1d;$d') ||
+  <(awk '/^```c$/ { inside = 1; next } inside && /^```$/ { exit } inside' README.md) ||
   { echo "README.md's C example differs from examples-c/readme_example.c" >&2; exit 1; }
 FRAMES=60 bash scripts/demo.sh | tail -3
 for t in scripts/test.d/*.sh; do
