@@ -492,7 +492,12 @@ impl Scene {
     /// the adjacency rule at each time), each once, sorted as `query_all`'s pairs, with
     /// its earliest time `toi` as a certified lower bound (never late, at most `2^-20`
     /// early; 0 with [`Impact::at_start`] exactly when the pair
-    /// meets at the start). Exact at epsilon 0 for the double world positions; the same
+    /// meets at the start). Exact at epsilon 0 for the double world positions. At epsilon
+    /// `e > 0` the band is a distance: a pair is also reported when at some time a vertex of
+    /// one polygon (that the other does not have) comes within `e / 2` of the other, or an
+    /// edge of one within `e / 2` of an edge of the other with which it shares no vertex;
+    /// every such pair is reported, and a reported pair comes within `(e / 2)(1 + 2^-20)`.
+    /// With no target anywhere that is a thickness query (pairs within `e / 2`). The same
     /// answer for every backend (it runs on the CPU), thread count and mesh creation
     /// order. Unsupported on a GL backend when an enabled mesh reads its positions from
     /// a host GL buffer. On failure [`Scene::impacts`] keeps the last successful answer.
@@ -500,16 +505,6 @@ impl Scene {
         self.impacts_current = false;
         self.impact_geometry.clear();
         let d = self.half_depth();
-        if d > 0.0 {
-            return Err(Error::new(
-                ErrorKind::Unsupported,
-                format!(
-                    "the continuous query's distance band (epsilon {} > 0) is not \
-                     implemented yet: make the scene with epsilon 0",
-                    self.config.epsilon
-                ),
-            ));
-        }
         self.plan.query_continuous(
             &mut self.meshes,
             d,

@@ -477,15 +477,6 @@ fn the_c_entry_point() {
         );
         glcol_scene_destroy(scene);
     }
-    // The band is refused with a message, nothing else changed.
-    let mut s = Scene::new(SceneConfig {
-        epsilon: 0.01,
-        ..SceneConfig::default()
-    })
-    .unwrap();
-    let e = s.query_continuous().unwrap_err();
-    assert_eq!(e.kind, ErrorKind::Unsupported);
-    assert!(e.message.contains("epsilon"), "{e}");
 }
 
 /// Checks `Scene::impact_geometry` against the answer: one entry per impact; NONE exactly
@@ -664,4 +655,117 @@ fn impact_geometry_of_the_real_steps() {
         eprintln!("{name}: the impact geometry of {checked} pairs checked");
         assert!(checked > 0);
     }
+}
+
+/// The distance band (epsilon e > 0) with no target anywhere: a thickness query, pairs
+/// within e / 2 (toi 0, AT_START), against the brute-force distances of every polygon pair
+/// of two real meshes placed side by side (not touching). Pairs whose f64 distance is
+/// within 1e-6 of e / 2 are not judged (the band's promise is exact below e / 2 and allows
+/// up to (e / 2)(1 + 2^-20)).
+#[test]
+fn the_band_without_targets_is_a_thickness_query() {
+    let a = common::shared_mesh("forceps_jaw");
+    let (lo, hi) = common::bounds(&a.positions);
+    let size = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f32::max);
+    // A second copy moved by 1.02 of its extent along x, and a little along y: apart, but
+    // many polygons within a few percent of the size.
+    let shift = [1.02 * (hi[0] - lo[0]), 0.01 * size, 0.0];
+    let b: Vec<[f32; 3]> = a
+        .positions
+        .iter()
+        .map(|p| [p[0] + shift[0], p[1] + shift[1], p[2]])
+        .collect();
+    let (ta, tb) = (
+        common::TestMesh::from_obj(&a),
+        common::TestMesh {
+            pos: b.clone(),
+            idx: a.triangles.clone(),
+            k: 3,
+        },
+    );
+    for rel in [0.02f32, 0.05] {
+        let e = rel * size;
+        let half = f64::from(e) / 2.0;
+        let mut s = Scene::new(SceneConfig {
+            epsilon: e,
+            threads: 1,
+            ..SceneConfig::default()
+        })
+        .unwrap();
+        let ia = s
+            .create_mesh(Positions::from_points(&a.positions), &a.triangles, 3)
+            .unwrap();
+        let ib = s
+            .create_mesh(Positions::from_points(&b), &a.triangles, 3)
+            .unwrap();
+        assert!(ia < ib);
+        let got: BTreeSet<(u32, u32)> = s
+            .query_continuous()
+            .unwrap()
+            .iter()
+            .map(|i| {
+                assert!(i.at_start && i.toi == 0.0, "{i:?}");
+                (i.polygon_a, i.polygon_b)
+            })
+            .collect();
+        let (mut within, mut judged) = (0, 0);
+        for p in 0..ta.polygons() {
+            for q in 0..tb.polygons() {
+                let d = common::polygon_distance(&ta, p, &tb, q);
+                let reported = got.contains(&(p as u32, q as u32));
+                if (d - half).abs() <= 1e-6 * half {
+                    continue;
+                }
+                judged += 1;
+                within += usize::from(d < half);
+                assert_eq!(reported, d < half, "pair ({p}, {q}) at {d}, band {half}");
+            }
+        }
+        eprintln!("band {half}: {within} pairs within of {judged} judged");
+        assert!(within > 0);
+    }
+}
+
+/// The band with a target: a triangle passing a membrane's edge at a distance h, never
+/// touching it: reported at e / 2 a little above h (toi at the closest approach, at most
+/// 2^-20 early), not at e / 2 a little below.
+#[test]
+fn the_band_in_a_step() {
+    let run = |half: f64| -> Vec<Impact> {
+        let mut s = Scene::new(SceneConfig {
+            epsilon: (2.0 * half) as f32,
+            threads: 1,
+            ..SceneConfig::default()
+        })
+        .unwrap();
+        let sheet = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]];
+        s.create_mesh(Positions::from_points_f64(&sheet), &[0, 1, 2, 3], 4)
+            .unwrap();
+        // A small triangle at height 0.25 above the plane z = 0, beside the sheet (x > 1.25),
+        // sweeping along y: its lowest corner passes the sheet's edge x = 1 at distance
+        // sqrt(0.25^2 + 0.25^2) at every y in [0, 1].
+        let tri = [[1.25, -1.0, 0.25], [1.5, -1.0, 0.25], [1.25, -1.0, 0.5]];
+        let t = s
+            .create_mesh(Positions::from_points_f64(&tri), &[0, 1, 2], 3)
+            .unwrap();
+        let end: Vec<[f64; 3]> = tri.iter().map(|p| [p[0], p[1] + 4.0, p[2]]).collect();
+        s.set_target_positions_f64(t, 0, &end).unwrap();
+        s.query_continuous().unwrap().to_vec()
+    };
+    let h = (0.125f64).sqrt(); // 0.3535...
+                               // e is a float: the band's half is what the float e gives.
+    let above = f64::from((2.0 * h * (1.0 + 1e-5)) as f32) / 2.0;
+    let below = f64::from((2.0 * h * (1.0 - 1e-5)) as f32) / 2.0;
+    assert!(above > h && below < h);
+    let hits = run(above);
+    assert_eq!(hits.len(), 1, "{hits:?}");
+    // The corner (1.25, y, 0.25) comes within `above` of the edge x = 1, z = 0 (y in [0, 1])
+    // once y reaches 0 - a little: y(t) = -1 + 4 t, the earliest t a little before 1/4.
+    let dy = (above * above - h * h).max(0.0).sqrt();
+    let exact = (1.0 - dy) / 4.0;
+    assert!(
+        hits[0].toi <= exact && hits[0].toi >= exact - 2f64.powi(-20) - 1e-9,
+        "{hits:?} {exact}"
+    );
+    assert!(run(below).is_empty());
 }

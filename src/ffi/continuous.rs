@@ -22,10 +22,16 @@ use crate::ImpactFeature;
 /// vertex's position). On success `*out_impacts` points at `*out_count` impacts sorted by
 /// (mesh_a, polygon_a, mesh_b, polygon_b) (NULL when 0), owned by the scene as
 /// glcol_query_all's pairs (valid until the next non-const call on it). The same answer for
-/// every backend (it runs on the CPU), thread count and creation order. Epsilon > 0 (the
-/// distance band): GLCOL_STATUS_UNSUPPORTED in this version. A GL backend with an enabled
-/// mesh bound to a host GL buffer: GLCOL_STATUS_UNSUPPORTED. On failure nothing is
-/// written and the last answer stays as it was. Added in 0.3.
+/// every backend (it runs on the CPU), thread count and creation order. At epsilon e > 0
+/// the band is a distance: a pair is also reported when at some t a vertex of one polygon
+/// that the other does not share comes within e / 2 of the other polygon, or an edge of one
+/// within e / 2 of an edge of the other with which it shares no vertex (a polygon's edges
+/// are its triangles'); every such pair is reported, a reported pair comes within
+/// (e / 2) * (1 + 2^-20) at some t, and toi is never later than the earliest time within
+/// e / 2 (AT_START: within e / 2 at t = 0). With no target anywhere this is a thickness
+/// query: the pairs within e / 2 (glcol_query_all's band is the paper's viewing volume).
+/// A GL backend with an enabled mesh bound to a host GL buffer: GLCOL_STATUS_UNSUPPORTED.
+/// On failure nothing is written and the last answer stays as it was. Added in 0.3.
 ///
 /// # Safety
 /// `scene` is NULL or a live scene; `out_impacts` and `out_count` are NULL or writable and

@@ -19,10 +19,13 @@
 //! * `poly.rs`: integer polynomials, root isolation and signs at real algebraic numbers.
 //! * `impact.rs`: where a contact happens: the weights of the closest points and the normal
 //!   at the time of impact, and the primitive pair of a polygon pair that meets first.
+//! * `band.rs`: the distance-band tests (within a distance `d > 0` rather than touching,
+//!   continuous detection at epsilon `e = 2 d`), by conservative advancement.
 //! * `tests/`: the ground truth of the simulation steps, an independent rational
 //!   reference, adversarial motions by construction, and the timing (ignored).
 
 mod apart;
+mod band;
 mod exact;
 mod filter;
 mod impact;

@@ -24,6 +24,7 @@
 //! the joint): the primitives report it, the point-set rule does not.
 
 use super::apart::{apart_along, apart_on_axes, cross, max_abs, sub};
+use super::band::{edge_edge_within, vertex_face_within};
 use super::{edge_edge_before, vertex_face_before, Toi};
 use crate::geom::adjacent::adjacent_polygons_meet;
 use crate::geom::tritri::triangles_intersect;
@@ -225,7 +226,75 @@ pub fn polygons_first_meet(
             keep_earlier(&mut best, hit, || First::EdgeEdge { a: ia, b: ib });
         }
     }
+    if d > 0.0 {
+        within_band(a, b, adjacent, d, &mut best);
+    }
     best
+}
+
+/// The band's primitive pairs (API.md): a vertex of one polygon that the other does not
+/// have, within `d` of a triangle of the other; an edge of one within `d` of an edge of the
+/// other with which it shares no vertex. Each earlier than `best` replaces it; one within
+/// `d` at the start makes the pair meet at the start.
+fn within_band(
+    a: &MovingPolygon,
+    b: &MovingPolygon,
+    adjacent: bool,
+    d: f64,
+    best: &mut Option<(Toi, First)>,
+) {
+    let mut keep = |t: Option<Toi>, f: &dyn Fn() -> First| {
+        keep_earlier(best, t, || {
+            if t.is_some_and(|t| t.at_start) {
+                First::AtStart
+            } else {
+                f()
+            }
+        })
+    };
+    for (v, f, swapped) in [(a, b, false), (b, a, true)] {
+        for c in 0..v.k {
+            let id = v.ids[c];
+            if adjacent && f.has(id) {
+                continue;
+            }
+            for t in f.tris() {
+                let hit = vertex_face_within(
+                    [v.p[0][c], v.p[1][c]],
+                    [f.triangle(t, 0), f.triangle(t, 1)],
+                    d,
+                );
+                let fi = t.map(|k| f.ids[k]);
+                keep(hit, &|| {
+                    if swapped {
+                        First::FaceVertex { f: fi, v: id }
+                    } else {
+                        First::VertexFace { v: id, f: fi }
+                    }
+                });
+            }
+        }
+    }
+    for ea in a.edges() {
+        let ia = ea.map(|c| a.ids[c]);
+        for eb in b.edges() {
+            let ib = eb.map(|c| b.ids[c]);
+            if adjacent && ia.iter().any(|v| ib.contains(v)) {
+                continue;
+            }
+            let edge = |p: &MovingPolygon, e: &[usize; 2]| -> MovingEdge {
+                canonical([e.map(|c| p.p[0][c]), e.map(|c| p.p[1][c])])
+            };
+            let (x, y) = (edge(a, ea), edge(b, eb));
+            let key = |e: &MovingEdge| e.map(|w| w.map(|p| p.map(f64::to_bits)));
+            let hit = if key(&y) < key(&x) {
+                edge_edge_within(y, x, d)
+            } else {
+                edge_edge_within(x, y, d)
+            };
+            keep(hit, &|| First::EdgeEdge { a: ia, b: ib });
+        }
+    }
 }
 
 /// Are the polygons more than `d` apart for the whole step along a coordinate axis or a triangle's

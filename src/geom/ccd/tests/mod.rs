@@ -5,6 +5,8 @@
 //! * `truth.rs`: the public ground truth of three simulation steps.
 //! * `adversarial.rs`: motions built so that the answer is known (every degenerate case,
 //!   scales near 1e-30 and 1e30, offsets 1e6), against the reference.
+//! * `band.rs`: the distance-band tests, against motions with a known distance, the
+//!   reference and the ground truth, and their timing (ignored).
 //! * `impact.rs`: the impact geometry (weights and normal at the time of impact), checked
 //!   exactly on the ground truth and on built motions.
 //! * `polygons.rs`: moving polygon pairs and whole scenes against the rational reference.
@@ -12,6 +14,7 @@
 //!   `scripts/bench-ccd-peers.sh` puts beside Tight-Inclusion's.
 
 mod adversarial;
+mod band;
 mod bench;
 mod impact;
 mod polygons;
