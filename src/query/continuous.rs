@@ -14,7 +14,7 @@
 
 use super::all::{mesh_pairs, BroadPhase, SceneMesh};
 use crate::geom::adjacent::shares_vertex;
-use crate::geom::ccd::{polygons_first_meet, First, MovingPolygon};
+use crate::geom::ccd::{polygons_first_meet, First, MovingPolygon, Toi};
 use crate::geom::sweep::Sweep;
 use crate::geom::{f32_down, f32_up, Aabb, P3};
 use crate::mesh::{Mesh, MeshId};
@@ -207,6 +207,19 @@ fn apart_at_both_ends(a: [Aabb; 2], b: [Aabb; 2], d: f64) -> bool {
     })
 }
 
+/// The time reported for `toi`: its bound, except that 0 is kept for the pairs that meet at
+/// the start (API.md: toi is 0 exactly then). A primitive's bound may be 0 for a pair first
+/// meeting within `2^-20` of the start without meeting at it; it becomes the least positive
+/// double, still below the exact time, which is positive.
+#[inline]
+fn reported_toi(toi: Toi) -> f64 {
+    if toi.t == 0.0 && !toi.at_start {
+        f64::from_bits(1)
+    } else {
+        toi.t
+    }
+}
+
 /// Leaf `la` of mesh `i` and leaf `lb` of mesh `j` (positions in the query's mesh list;
 /// `i == j` for a self-colliding mesh, `la <= lb`), whose swept boxes meet.
 #[derive(Clone, Copy, Debug)]
@@ -323,7 +336,7 @@ pub fn narrow(
                     polygon_a: ia,
                     mesh_b: mb.id,
                     polygon_b: ib,
-                    toi: toi.t,
+                    toi: reported_toi(toi),
                     at_start: toi.at_start,
                 },
                 first,

@@ -13,7 +13,11 @@
 //! * `t = 0` at its exact boundary: static pairs at distances whose square is not a double,
 //!   bands one ulp either side;
 //! * random motions (grid and literal scales 1e-30, 1e30) against the reference at
-//!   sampled times;
+//!   sampled times, and at the distance they have at a sampled time (often a tangency);
+//! * thin bands (a point or a short edge sliding a little above a face or a long edge,
+//!   rotated so that nothing rounds exactly, offsets 1e6): the bounds' rounding terms
+//!   decide there;
+//! * scales `2^900` and `2^-1000`;
 //! * the ground truth's touching pairs, reported at any band with a toi no later than the
 //!   zero-distance one;
 //! * the timing over the ground truth (ignored).
@@ -525,6 +529,22 @@ fn constructed_motions_at_bands_around_their_closest_distance() {
     );
 }
 
+/// Far beyond the brief's scales: `2^900` and `2^-1000` (the scaling to `[1, 2)` keeps
+/// them exact), the same checks.
+#[test]
+fn extreme_scales_keep_the_answers() {
+    let mut rng = Rng(0xba4d_0007);
+    for b in built(1.0 / 16.0) {
+        for scale in [900, -1000] {
+            let pts = Change::random(&mut rng, b.kind, scale, 0.0).apply(&b.pts);
+            let h = b.h * f64::powi(2.0, scale);
+            for d in [h * (1.0 - inv18()), h, h * (1.0 + inv18())] {
+                judge(&b, &pts, scale, d);
+            }
+        }
+    }
+}
+
 fn inv18() -> f64 {
     1.0 / (1u32 << 18) as f64
 }
@@ -879,6 +899,21 @@ fn the_public_calls_take_start_and_end() {
     assert_eq!(
         edge_edge_within([a, a], [b0, b1], 0.5 * (1.0 - inv18())),
         None
+    );
+    // No extent at all, and a band beyond any distance: within at the start.
+    let at_start = Some(Toi {
+        t: 0.0,
+        at_start: true,
+    });
+    let origin = [[0.0; 3]; 2];
+    assert_eq!(
+        edge_edge_within([origin, origin], [origin, origin], 1e-300),
+        at_start
+    );
+    assert_eq!(edge_edge_within([a, a], [b0, b1], 1e300), at_start);
+    assert_eq!(
+        vertex_face_within([[1e-300; 3]; 2], [tri, tri], 1e300),
+        at_start
     );
 }
 
