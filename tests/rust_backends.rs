@@ -166,3 +166,45 @@ fn gl_backends_from_rust_refuse_with_a_reason() {
         .unwrap();
     assert_eq!(e.kind, ErrorKind::InvalidArgument);
 }
+
+/// The continuous query on the GL backends: answered on the CPU from the positions they
+/// keep, the CPU scene's answer to the bit (a blade through two quads between frames).
+#[test]
+fn the_gl_backends_answer_the_continuous_query_as_the_cpu() {
+    use glcollide::Positions;
+    let build = |s: &mut Scene| {
+        let quads = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 0.5],
+            [1., 0., 0.5],
+            [1., 1., 0.5],
+            [0., 1., 0.5],
+        ];
+        s.create_mesh(Positions::from_points(&quads), &[0, 1, 2, 3, 4, 5, 6, 7], 4)
+            .unwrap();
+        let up = [[0.4, 0.4, 1.0], [0.6, 0.4, 1.0], [0.5, 0.6, 1.5]];
+        let blade = s
+            .create_mesh(Positions::from_points(&up), &[0, 1, 2], 3)
+            .unwrap();
+        s.set_target_transform(blade, &[1., 0., 0., 0., 0., 1., 0., 0., 0., 0., 1., -2.])
+            .unwrap();
+        s.query_continuous()
+            .unwrap()
+            .iter()
+            .map(|i| (i.polygon_a, i.polygon_b, i.toi.to_bits(), i.at_start))
+            .collect::<Vec<_>>()
+    };
+    let cpu = build(&mut Scene::new(config()).unwrap());
+    assert_eq!(cpu.len(), 2, "{cpu:?}");
+    for (profile, request) in [
+        (Profile::Compat, BackendRequest::GlSelect),
+        (Profile::Core, BackendRequest::GlCompute),
+    ] {
+        let _ctx = Ctx::new(profile);
+        let mut s = gl_scene(request).unwrap();
+        assert_eq!(build(&mut s), cpu, "{request:?}");
+    }
+}

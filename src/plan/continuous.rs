@@ -34,24 +34,24 @@ impl Planner {
         self.continuous_stats = ContinuousStats::default();
         out.clear();
         firsts.clear();
-        // A CPU scene reads meshes bound to host GL buffers in here; a GL backend keeps
-        // them on the GPU.
-        self.selector.prepare(meshes)?;
-        if self.selector.backend() != Backend::Cpu {
-            if let Some((&id, _)) = meshes
-                .iter()
-                .find(|(&id, m)| m.enabled && self.selector.gl_bound(id))
-            {
-                return Err(Error::new(
-                    ErrorKind::Unsupported,
-                    format!(
-                        "mesh {id} reads its positions from a GL buffer, which this GL \
+        // A CPU scene reads meshes bound to host GL buffers in here (its context current
+        // then); a GL backend keeps them on the GPU, and needs nothing else of its context
+        // here: the continuous query runs on the CPU positions.
+        if self.selector.backend() == Backend::Cpu {
+            self.selector.prepare(meshes)?;
+        } else if let Some((&id, _)) = meshes
+            .iter()
+            .find(|(&id, m)| m.enabled && self.selector.gl_bound(id))
+        {
+            return Err(Error::new(
+                ErrorKind::Unsupported,
+                format!(
+                    "mesh {id} reads its positions from a GL buffer, which this GL \
                          backend keeps on the GPU; the continuous query runs on the CPU: \
                          disable the mesh for it, or give it its positions with an update \
                          of all its vertices"
-                    ),
-                ));
-            }
+                ),
+            ));
         }
         self.workers.start()?;
         let list: Vec<SceneMesh<'_>> = meshes
