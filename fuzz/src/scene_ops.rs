@@ -3,7 +3,7 @@
 //! filters, translations, queries, whole-scene queries, contact geometry, f64 meshes
 //! (creation, updates with either call), targets (positions with either call, transforms,
 //! clears: none changes an answer or invalidates the geometry), continuous queries (their
-//! pairs meeting at the start are exactly the whole-scene query's), and malformed calls, on 1,
+//! pairs meeting at the start are exactly the whole-scene query's) and their impact geometry, and malformed calls, on 1,
 //! 2 or one-per-core threads. A model of the scene predicts every status, and every query is checked:
 //! sorted, each pair once, only live enabled meshes; with coordinates on the 1/4 grid the
 //! answer must equal the exact oracle's (epsilon = 0) or contain it with extras only within
@@ -307,7 +307,7 @@ fn check_query_all(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) -> us
 /// model has checked): sorted, each pair once, live enabled meshes, filters, times in
 /// [0, 1] with AT_START exactly at 0, and at epsilon 0 the pairs meeting at the start are
 /// exactly `glcol_query_all`'s (the same exact decisions, the adjacency rule included); at
-/// epsilon > 0 (the distance band) the same checks but the last.
+/// epsilon > 0 (the distance band) the same checks but the last. Then its impact geometry.
 fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
     let mut p: *const GlcolPair = null();
     let mut n = usize::MAX;
@@ -353,6 +353,43 @@ fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
         }
         assert!((0.0..=1.0).contains(&q.toi), "toi {}", q.toi);
         assert_eq!(q.toi == 0.0, q.flags & GLCOL_IMPACT_AT_START != 0, "{q:?}");
+    }
+    // The impact geometry of the answer: one entry each, NONE exactly for AT_START, weights
+    // in [0, 1] summing to 1, a unit normal (0 for NONE), vertices of the polygons' meshes.
+    let mut gp: *const GlcolImpactGeometry = null();
+    let mut gn = usize::MAX;
+    status(
+        unsafe { glcol_query_impact_geometry(scene, &mut gp, &mut gn) },
+        GlcolStatus::Ok,
+        "query_impact_geometry",
+    );
+    assert_eq!(gn, got.len());
+    let geo = if gn == 0 {
+        &[][..]
+    } else {
+        unsafe { std::slice::from_raw_parts(gp, gn) }
+    };
+    for (q, g) in got.iter().zip(geo) {
+        let at_start = q.flags & GLCOL_IMPACT_AT_START != 0;
+        assert_eq!(g.kind == GLCOL_FEATURE_NONE, at_start, "{q:?} {g:?}");
+        assert!(g.kind <= GLCOL_FEATURE_EDGE_EDGE);
+        let len = g.normal.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if at_start {
+            assert_eq!(len, 0.0);
+            continue;
+        }
+        assert!((len - 1.0).abs() < 1e-9, "normal {g:?}");
+        for w in [&g.weights_a, &g.weights_b] {
+            assert!(w.iter().all(|x| (0.0..=1.0).contains(x)), "{g:?}");
+            assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{g:?}");
+        }
+        let model = |id: u32| meshes.iter().find(|m| m.id == id).expect("dead mesh");
+        let (a, b) = (model(q.mesh_a), model(q.mesh_b));
+        let own = |m: &Model, p: u32, v: &[u32; 3]| {
+            let c = &m.idx[p as usize * m.k..(p as usize + 1) * m.k];
+            v.iter().all(|x| c.contains(x))
+        };
+        assert!(own(a, q.polygon_a, &g.vertices_a) && own(b, q.polygon_b, &g.vertices_b));
     }
     if epsilon != 0.0 {
         // The distance band is not glcol_query_all's viewing volume: only the pairs that
