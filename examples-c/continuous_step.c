@@ -51,6 +51,35 @@ static void blade_at(double x, double m[12]) {
     m[3] = x;
 }
 
+/* The membrane (an f64 mesh of quads, a simulator's state in doubles) at `xyz`, in `scene`. */
+static GlcolMeshId add_membrane(GlcolScene *scene, const double *xyz, const uint32_t *quads) {
+    GlcolMeshDesc md;
+    glcol_mesh_desc_init(&md);
+    md.positions_f64 = xyz;
+    md.vertex_count = (N + 1) * (N + 1);
+    md.indices = quads;
+    md.polygon_count = N * N;
+    md.vertices_per_polygon = 4;
+    GlcolMeshId id;
+    CHECK(glcol_mesh_create(scene, &md, &id));
+    return id;
+}
+
+/* The blade, placed by the transform `m`, in `scene`. */
+static GlcolMeshId add_blade(GlcolScene *scene, const GlcolObjMesh *obj, const double m[12]) {
+    GlcolMeshDesc md;
+    glcol_mesh_desc_init(&md);
+    md.positions = obj->positions;
+    md.vertex_count = obj->vertex_count;
+    md.indices = obj->indices;
+    md.polygon_count = obj->polygon_count;
+    md.vertices_per_polygon = 3;
+    GlcolMeshId id;
+    CHECK(glcol_mesh_create(scene, &md, &id));
+    CHECK(glcol_mesh_set_transform(scene, id, m));
+    return id;
+}
+
 int main(int argc, char **argv) {
     const char *dir = argc > 1 ? argv[1] : "data";
     char path[4096];
@@ -73,32 +102,16 @@ int main(int argc, char **argv) {
             quads[q] = v, quads[q + 1] = v + 1, quads[q + 2] = v + N + 2, quads[q + 3] = v + N + 1;
         }
     membrane(0, now);
-    GlcolMeshDesc md;
-    glcol_mesh_desc_init(&md);
-    md.positions_f64 = now;
-    md.vertex_count = (N + 1) * (N + 1);
-    md.indices = quads;
-    md.polygon_count = N * N;
-    md.vertices_per_polygon = 4;
-    GlcolMeshId sheet;
-    CHECK(glcol_mesh_create(scene, &md, &sheet));
+    GlcolMeshId sheet = add_membrane(scene, now, quads);
 
     /* The blade, placed by its transform, 3 cm in front of the membrane. */
-    glcol_mesh_desc_init(&md);
-    md.positions = blade_obj.positions;
-    md.vertex_count = blade_obj.vertex_count;
-    md.indices = blade_obj.indices;
-    md.polygon_count = blade_obj.polygon_count;
-    md.vertices_per_polygon = 3;
-    GlcolMeshId blade;
-    CHECK(glcol_mesh_create(scene, &md, &blade));
     float lo = INFINITY;
     for (size_t v = 0; v < blade_obj.vertex_count; v++)
         lo = fminf(lo, blade_obj.positions[3 * v]);
     double x = 3.0 - lo, speed = 2.5; /* 2.5 cm a step: more than the blade is thick */
     double m[12], m_next[12];
     blade_at(x, m);
-    CHECK(glcol_mesh_set_transform(scene, blade, m));
+    GlcolMeshId blade = add_blade(scene, &blade_obj, m);
 
     printf("step | discrete pairs (start, end) | continuous pairs | earliest toi | advanced to\n");
     int stopped = 0;
@@ -149,18 +162,8 @@ int main(int argc, char **argv) {
         /* What a discrete check at the end of the unconstrained step would have seen. */
         GlcolScene *probe;
         CHECK(glcol_scene_create(&sd, &probe));
-        GlcolMeshId ps, pb;
-        md.positions = blade_obj.positions;
-        CHECK(glcol_mesh_create(probe, &md, &pb));
-        CHECK(glcol_mesh_set_transform(probe, pb, m_next));
-        GlcolMeshDesc sdsc;
-        glcol_mesh_desc_init(&sdsc);
-        sdsc.positions_f64 = next;
-        sdsc.vertex_count = (N + 1) * (N + 1);
-        sdsc.indices = quads;
-        sdsc.polygon_count = N * N;
-        sdsc.vertices_per_polygon = 4;
-        CHECK(glcol_mesh_create(probe, &sdsc, &ps));
+        add_blade(probe, &blade_obj, m_next);
+        add_membrane(probe, next, quads);
         CHECK(glcol_query_all(probe, &pairs, &n_end));
         glcol_scene_destroy(probe);
 
@@ -176,22 +179,8 @@ int main(int argc, char **argv) {
     sd.epsilon = 1.0f; /* cm: e / 2 = 5 mm */
     GlcolScene *thick;
     CHECK(glcol_scene_create(&sd, &thick));
-    GlcolMeshId ts, tb;
-    glcol_mesh_desc_init(&md);
-    md.positions_f64 = now;
-    md.vertex_count = (N + 1) * (N + 1);
-    md.indices = quads;
-    md.polygon_count = N * N;
-    md.vertices_per_polygon = 4;
-    CHECK(glcol_mesh_create(thick, &md, &ts));
-    glcol_mesh_desc_init(&md);
-    md.positions = blade_obj.positions;
-    md.vertex_count = blade_obj.vertex_count;
-    md.indices = blade_obj.indices;
-    md.polygon_count = blade_obj.polygon_count;
-    md.vertices_per_polygon = 3;
-    CHECK(glcol_mesh_create(thick, &md, &tb));
-    CHECK(glcol_mesh_set_transform(thick, tb, m));
+    add_membrane(thick, now, quads);
+    add_blade(thick, &blade_obj, m);
     const GlcolImpact *near;
     const GlcolPair *vol;
     size_t n_near, n_vol;
