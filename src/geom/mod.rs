@@ -131,6 +131,28 @@ pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (s, (a - (s - bb)) + (b - bb))
 }
 
+/// `a + b` rounded down (the continuous filters' interval ends).
+#[inline(always)]
+pub(crate) fn add_down(a: f64, b: f64) -> f64 {
+    let (s, e) = two_sum(a, b);
+    if e < 0.0 {
+        s.next_down()
+    } else {
+        s
+    }
+}
+
+/// `a + b` rounded up.
+#[inline(always)]
+pub(crate) fn add_up(a: f64, b: f64) -> f64 {
+    let (s, e) = two_sum(a, b);
+    if e > 0.0 {
+        s.next_up()
+    } else {
+        s
+    }
+}
+
 /// The smallest `f32` at or above `x` (not NaN); `+inf` above `f32::MAX`.
 #[inline]
 pub fn f32_up(x: f64) -> f32 {

@@ -78,7 +78,7 @@
 use super::filter::Iv;
 use super::predicate::Kind;
 use super::{edge_edge_points, vertex_face_points, Points, Toi};
-use crate::geom::{two_sum, P3};
+use crate::geom::{add_down, add_up, P3};
 
 /// Advancement steps at most (each one excludes a piece of the step or ends the search).
 pub(crate) const MAX_STEPS: u32 = 64;
@@ -169,28 +169,6 @@ fn split(kind: Kind) -> usize {
     match kind {
         Kind::VertexFace => 1,
         Kind::EdgeEdge => 2,
-    }
-}
-
-/// `a + b` rounded down.
-#[inline(always)]
-fn add_down(a: f64, b: f64) -> f64 {
-    let (s, e) = two_sum(a, b);
-    if e < 0.0 {
-        s.next_down()
-    } else {
-        s
-    }
-}
-
-/// `a + b` rounded up.
-#[inline(always)]
-fn add_up(a: f64, b: f64) -> f64 {
-    let (s, e) = two_sum(a, b);
-    if e > 0.0 {
-        s.next_up()
-    } else {
-        s
     }
 }
 

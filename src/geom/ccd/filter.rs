@@ -31,36 +31,14 @@
 use super::apart::{apart_along, apart_on_axes, cross, max_abs, sub};
 use super::predicate::{meets, separated, Kind, Signs};
 use super::{Points, Toi};
-use crate::geom::two_sum;
 use crate::geom::P3;
+use crate::geom::{add_down, add_up};
 
 /// An interval `[lo, hi]` of reals.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Iv {
     pub(super) lo: f64,
     pub(super) hi: f64,
-}
-
-/// `a + b` rounded down.
-#[inline(always)]
-fn add_down(a: f64, b: f64) -> f64 {
-    let (s, e) = two_sum(a, b);
-    if e < 0.0 {
-        s.next_down()
-    } else {
-        s
-    }
-}
-
-/// `a + b` rounded up.
-#[inline(always)]
-fn add_up(a: f64, b: f64) -> f64 {
-    let (s, e) = two_sum(a, b);
-    if e > 0.0 {
-        s.next_up()
-    } else {
-        s
-    }
 }
 
 impl Iv {

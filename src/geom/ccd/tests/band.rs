@@ -22,17 +22,16 @@
 //!   zero-distance one;
 //! * the timing over the ground truth (ignored).
 
-use super::super::band::{decide_within, Route};
-use super::super::band::{edge_edge_within, vertex_face_within};
+use super::super::band::{decide_within, edge_edge_within, vertex_face_within, Route};
 use super::super::predicate::Kind;
 use super::super::{decide, Points, Toi};
+use super::bench::best_of_3;
 use super::reference::{dist2_at, inv_pow2, q, speed_bound, Q};
 use super::split;
 use super::truth::{has_truth, load, SCENES};
 use crate::geom::test_rng::Rng;
 use crate::geom::P3;
 use num_traits::{One, Zero};
-use std::time::Instant;
 
 /// `n / d` as a rational.
 fn r(n: i64, d: i64) -> Q {
@@ -915,32 +914,6 @@ fn the_public_calls_take_start_and_end() {
         vertex_face_within([[1e-300; 3]; 2], [tri, tri], 1e300),
         at_start
     );
-}
-
-/// This thread's time on a CPU so far, in ns (as `bench.rs`).
-fn cpu_ns(wall: Instant) -> f64 {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .unwrap_or_else(|| wall.elapsed().as_secs_f64() * 1e9)
-}
-
-/// The best of three timings of `f`, each repeated for at least 0.2 s (CPU ns, wall ns).
-fn best_of_3(mut f: impl FnMut()) -> (f64, f64) {
-    let origin = Instant::now();
-    let mut best = (f64::INFINITY, f64::INFINITY);
-    for _ in 0..3 {
-        let (c0, w0) = (cpu_ns(origin), Instant::now());
-        let mut n = 0u32;
-        while n == 0 || w0.elapsed().as_secs_f64() < 0.2 {
-            f();
-            n += 1;
-        }
-        let c = (cpu_ns(origin) - c0) / f64::from(n);
-        let w = w0.elapsed().as_secs_f64() * 1e9 / f64::from(n);
-        best = (best.0.min(c), best.1.min(w));
-    }
-    best
 }
 
 /// The band tests' timing over the ground truth's queries at `d = 1e-3` of the scene's

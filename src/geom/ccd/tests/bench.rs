@@ -19,7 +19,7 @@ fn cpu_ns(wall: Instant) -> f64 {
 }
 
 /// The best of three timings of one call of `f` (CPU ns, wall ns).
-fn best_of_3(mut f: impl FnMut()) -> (f64, f64) {
+pub(super) fn best_of_3(mut f: impl FnMut()) -> (f64, f64) {
     let origin = Instant::now();
     let mut best = (f64::INFINITY, f64::INFINITY);
     for _ in 0..3 {

@@ -3,49 +3,17 @@
 //! (rational hull distances, bisection of the meeting interval), the union's the earliest.
 
 use super::super::{polygons_first_meet, MovingPolygon, Toi};
-use super::reference::{dist2, inv_pow2, q, Q, Q3};
+use super::reference::{inv_pow2, q, translated_hulls_first_meeting, Q, Q3};
 use crate::geom::test_rng::Rng;
 use crate::geom::P3;
 use crate::{Positions, Scene, SceneConfig};
-use num_bigint::BigInt;
-use num_traits::{One, Zero};
+use num_traits::Zero;
 
 /// Corners of a polygon's triangles.
 const TRIS: [[usize; 3]; 2] = [[0, 1, 2], [0, 2, 3]];
 
 fn qp(p: &P3) -> Q3 {
     p.map(q)
-}
-
-/// For two triangles each moving by one translation (`a0 + t va`, `b0 + t vb`): the
-/// earliest meeting time bracketed in `[lo, hi]`, `hi - lo <= 2^-bits`, or None. They meet
-/// during `[0, m]` exactly when `a0` meets the hull of `b0` and `b0 + m (vb - va)`.
-fn translated_triangles(a0: &[Q3], va: &Q3, b0: &[Q3], vb: &Q3, bits: u32) -> Option<(Q, Q)> {
-    let u: Q3 = std::array::from_fn(|k| &vb[k] - &va[k]);
-    let during = |m: &Q| {
-        let mut b = b0.to_vec();
-        b.extend(
-            b0.iter()
-                .map(|p| std::array::from_fn(|k| &p[k] + m * &u[k])),
-        );
-        dist2(a0, &b).is_zero()
-    };
-    if dist2(a0, b0).is_zero() {
-        return Some((Q::zero(), Q::zero()));
-    }
-    if !during(&Q::one()) {
-        return None;
-    }
-    let (mut lo, mut hi) = (Q::zero(), Q::one());
-    for _ in 0..bits {
-        let mid = (&lo + &hi) / Q::from_integer(BigInt::from(2));
-        if during(&mid) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some((lo, hi))
 }
 
 /// A polygon of `k` corners at `start`, translated by `v`.
@@ -72,7 +40,9 @@ fn reference(a: &MovingPolygon, b: &MovingPolygon, bits: u32) -> Option<(Q, Q)> 
     let mut best: Option<(Q, Q)> = None;
     for ta in &TRIS[..a.k - 2] {
         for tb in &TRIS[..b.k - 2] {
-            if let Some(r) = translated_triangles(&tri(a, ta), &va, &tri(b, tb), &vb, bits) {
+            if let Some(r) =
+                translated_hulls_first_meeting(&tri(a, ta), &va, &tri(b, tb), &vb, bits)
+            {
                 if best.as_ref().is_none_or(|b| r.1 < b.1) {
                     best = Some(r);
                 }

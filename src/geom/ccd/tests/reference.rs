@@ -152,20 +152,33 @@ pub fn translated_first_meeting(pts: &Points, split: usize, bits: u32) -> Option
         let v = vel(r.start);
         assert!(r.clone().all(|i| vel(i) == v), "not a translation");
     }
+    translated_hulls_first_meeting(&start[..split], &vel(0), &start[split..], &vel(split), bits)
+}
+
+/// For the hulls of the points `a0` and `b0` moving by the translations `a0 + t va` and
+/// `b0 + t vb`: the earliest meeting time bracketed as [`translated_first_meeting`]'s, or
+/// `None`.
+pub fn translated_hulls_first_meeting(
+    a0: &[Q3],
+    va: &Q3,
+    b0: &[Q3],
+    vb: &Q3,
+    bits: u32,
+) -> Option<(Q, Q)> {
     // The second's motion relative to the first.
-    let u = sub(&vel(split), &vel(0));
+    let u = sub(vb, va);
     let during = |m: &Q| -> bool {
-        let mut b: Vec<Q3> = start[split..].to_vec();
-        b.extend(start[split..].iter().map(|p| {
+        let mut b: Vec<Q3> = b0.to_vec();
+        b.extend(b0.iter().map(|p| {
             let mut s = p.clone();
             for k in 0..3 {
                 s[k] += m * &u[k];
             }
             s
         }));
-        dist2(&start[..split], &b).is_zero()
+        dist2(a0, &b).is_zero()
     };
-    if dist2(&start[..split], &start[split..]).is_zero() {
+    if dist2(a0, b0).is_zero() {
         return Some((Q::zero(), Q::zero()));
     }
     if !during(&Q::one()) {
