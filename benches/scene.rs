@@ -422,7 +422,7 @@ fn main() {
     }
     println!(
         "\nStages of the median query, ms (worker stages: CPU time summed over the workers); \
-         counts: mesh pairs, self leaf pairs, self box pairs (adjacent / quick / apart), found\n"
+         counts: mesh pairs, self leaf pairs, self box pairs (adjacent by fans / adjacent tested / quick / apart), found\n"
     );
     println!(
         "| scene | epsilon | threads | total | broad | self leaf pairs | workers (wall) | \
@@ -434,7 +434,7 @@ fn main() {
         let p = st.pair_step_nanos;
         println!(
             "| {name} | {eps} | {threads} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | \
-             {} mp, {} lp, {} bp ({} / {} / {}), {} + {} found; proven {} patches, {} sub-leaves |",
+             {} mp, {} lp, {} bp ({} / {} / {} / {}), {} + {} found; proven {} patches, {} sub-leaves, {} fans |",
             ms(st.total_nanos),
             ms(st.broad_nanos),
             ms(st.self_leaf_nanos),
@@ -449,6 +449,7 @@ fn main() {
             st.mesh_pairs,
             st.self_leaf_pairs,
             st.self_box_pairs,
+            st.self_adjacent_fans,
             st.self_adjacent_tests,
             st.self_adjacent_quick,
             st.self_narrow_tests,
@@ -456,6 +457,7 @@ fn main() {
             st.pair_found,
             st.self_cert_patches,
             st.self_cert_subs,
+            st.self_cert_fans,
         );
     }
 }

@@ -7,6 +7,7 @@ pub mod affine;
 pub(crate) mod batch;
 pub mod ccd;
 pub mod contact;
+pub mod fan;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod lanes;
 pub mod patch;

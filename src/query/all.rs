@@ -16,6 +16,7 @@ use crate::backend::Pair;
 use crate::geom::adjacent::{
     adjacent_polygons_meet, shares_vertex, triangles_touch_only_at_joint_planes,
 };
+use crate::geom::fan::Fans;
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
@@ -456,6 +457,15 @@ pub struct SelfPrep {
     layouts: Vec<LeafLayout>,
     piece_of: Vec<u32>,
     layout_key: Option<(u32, usize, usize)>,
+    /// Vertex-fan certificates ([`crate::geom::fan`]; triangle meshes with consistently
+    /// oriented edges): the fans (made with the layout), each vertex's verdict this query,
+    /// and per leaf-order polygon the corners whose fan is proven (bit `c`): a neighbour
+    /// pair sharing such a corner is decided without a test.
+    fans: Fans,
+    fan_ok: Vec<bool>,
+    fan_bits: Vec<u8>,
+    /// Vertices whose fan is proven in the last [`SelfPrep::make`].
+    pub certified_fans: usize,
     /// Patches proven by their certificate in the last [`SelfPrep::make`].
     pub certified_patches: usize,
     /// Sub-leaves proven on their own (in patches not proven whole).
@@ -559,7 +569,34 @@ impl SelfPrep {
                 self.sub_start.extend(&lay.ends);
                 self.leaf_sub.push(self.sub_start.len() as u32 - 1);
             }
+            self.fans = match tw {
+                Some(tw) if triangles => Fans::new(m.vertex_count(), &self.verts, tw),
+                _ => Fans::default(),
+            };
             self.layout_key = Some(key);
+        }
+        // The fans' verdicts, then each polygon's proven corners.
+        let (fans, tris, turns) = (&self.fans, &self.tris[..], &self.turns[..]);
+        let prove = |v: usize| fans.proven(v, tris, turns);
+        self.fan_ok.clear();
+        if par {
+            self.fan_ok
+                .par_extend((0..fans.len()).into_par_iter().map(prove));
+        } else {
+            self.fan_ok.extend((0..fans.len()).map(prove));
+        }
+        self.certified_fans = self.fan_ok.iter().filter(|&&x| x).count();
+        self.fan_bits.clear();
+        if self.fan_ok.is_empty() {
+            self.fan_bits.resize(n, 0);
+        } else {
+            let ok = &self.fan_ok;
+            let bits = |v: &[u32; 4]| (0..3).fold(0, |b, c| b | (ok[v[c] as usize] as u8) << c);
+            if par {
+                self.fan_bits.par_extend(self.verts.par_iter().map(bits));
+            } else {
+                self.fan_bits.extend(self.verts.iter().map(bits));
+            }
         }
         self.patch_of.clear();
         self.patch_of.extend_from_slice(&self.piece_of);
@@ -783,6 +820,11 @@ pub struct AllStats {
     /// Of them, pairs decided by a cheap conservative test without the exact adjacency
     /// predicate.
     pub self_adjacent_quick: usize,
+    /// Pairs sharing a vertex index decided by that vertex's fan certificate
+    /// ([`crate::geom::fan`]): not tested, not counted in `self_adjacent_tests`.
+    pub self_adjacent_fans: usize,
+    /// Vertices whose fan certificate holds.
+    pub self_cert_fans: usize,
     /// Self-collision: time and count of narrow tests of pairs sharing no vertex.
     pub self_narrow_nanos: u64,
     /// Pairs sharing no vertex index whose boxes meet.
@@ -810,6 +852,7 @@ impl AllStats {
         self.self_adjacent_nanos += o.self_adjacent_nanos;
         self.self_adjacent_tests += o.self_adjacent_tests;
         self.self_adjacent_quick += o.self_adjacent_quick;
+        self.self_adjacent_fans += o.self_adjacent_fans;
         self.self_narrow_nanos += o.self_narrow_nanos;
         self.self_narrow_tests += o.self_narrow_tests;
         self.self_found += o.self_found;
@@ -841,6 +884,7 @@ pub fn self_pairs(
     let (adjacent, apart) = (&mut s.adjacent, &mut s.apart);
     let exact = h == 0.0;
     let (check, unions) = (&mut s.check, &mut s.unions);
+    let mut fans = 0;
     for &(i, j) in leaf_pairs {
         unions.clear();
         // Two sub-leaves are proven together when they lie in one proven patch, or in two
@@ -869,9 +913,14 @@ pub fn self_pairs(
             |p, q, proven| {
                 let (vp, vq) = (&prep.verts[p as usize], &prep.verts[q as usize]);
                 if shares_vertex(&vp[..k], &vq[..k]) {
-                    // Proven patches meet only where they share: nothing to decide.
+                    // Proven patches meet only where they share, and so do two triangles
+                    // around a vertex whose fan is proven: nothing to decide.
                     if !proven {
-                        adjacent.push((p, q));
+                        if shared_corners(vp, vq) & prep.fan_bits[p as usize] != 0 {
+                            fans += 1;
+                        } else {
+                            adjacent.push((p, q));
+                        }
                     }
                 } else {
                     apart.push((p, q));
@@ -880,7 +929,8 @@ pub fn self_pairs(
         );
     }
     st.self_box_nanos += nanos_since(t);
-    st.self_box_pairs += s.adjacent.len() + s.apart.len();
+    st.self_box_pairs += s.adjacent.len() + s.apart.len() + fans;
+    st.self_adjacent_fans += fans;
     st.self_adjacent_tests += s.adjacent.len();
     st.self_narrow_tests += s.apart.len();
     let found = out.len();
@@ -1078,6 +1128,19 @@ impl<T> Slots<T> {
         self.at[p] = (self.stamp, i as u32);
         i
     }
+}
+
+/// The corners `c` of triangle `a` that triangle `b` also holds (vertex indices; a
+/// fourth entry is not a triangle's: fans are proven for triangle meshes only), as bits
+/// `1 << c`; without branches (see [`shares_vertex`]).
+#[inline(always)]
+fn shared_corners(a: &[u32; 4], b: &[u32; 4]) -> u8 {
+    let mut bits = 0;
+    for (c, x) in a[..3].iter().enumerate() {
+        let hit = (*x == b[0]) | (*x == b[1]) | (*x == b[2]);
+        bits |= (hit as u8) << c;
+    }
+    bits
 }
 
 /// The caller's vertex indices of leaf-ordered polygon `p` (the first `k` count).
