@@ -109,27 +109,11 @@ pub struct Loop {
 pub struct PatchCheck {
     /// Boundary edges as (start vertex, `3 * triangle + edge`), sorted by start.
     keys: Vec<(u32, u32)>,
-    current: Loop,
     segs: Vec<Seg>,
     by_x: Vec<(f64, u32)>,
 }
 
 impl PatchCheck {
-    /// Conditions 2b and 3: the boundary edges `edges` (as `3 * triangle + edge`) chain into
-    /// one closed loop whose projection along `axis` is a simple polygon.
-    pub fn simple_loop(
-        &mut self,
-        edges: impl Iterator<Item = u32>,
-        axis: u8,
-        verts: &[[u32; 4]],
-        tris: &[[P3; 3]],
-    ) -> bool {
-        let mut l = std::mem::take(&mut self.current);
-        let ok = self.chain(edges, verts, &mut l) && self.simple(&l, axis, tris);
-        self.current = l;
-        ok
-    }
-
     /// Condition 2b alone: the loop the boundary edges `edges` chain into, if one.
     pub fn boundary_loop(
         &mut self,
@@ -284,7 +268,10 @@ mod tests {
             return false;
         }
         let edges = (0..3 * verts.len() as u32).filter(|&x| tw[x as usize] == NONE);
-        PatchCheck::default().simple_loop(edges, mask_axis(mask), &v4, &tris)
+        let mut check = PatchCheck::default();
+        check
+            .boundary_loop(edges, &v4)
+            .is_some_and(|l| check.simple(&l, mask_axis(mask), &tris))
     }
 
     /// Some pair meets beyond what it shares (exact predicates, pair by pair).

@@ -151,7 +151,7 @@ struct PieceLayout {
 /// proven) and boundaries, and which sub-leaves are proven on their own.
 struct LeafOut {
     sub_patch: Vec<u32>,
-    patches: Vec<(u8, Vec<u32>)>,
+    patches: Vec<u8>,
     sub_ok: Vec<bool>,
 }
 
@@ -306,15 +306,13 @@ fn leaf_layout(
 }
 
 /// This query's certificates of one leaf laid out as `lay` (`items`: its polygons in leaf
-/// order from `start`; `local`: each polygon's piece, overwritten with its proven node's
-/// patch number where one is): each piece is tried as a patch ([`crate::geom::patch`]);
+/// order from `start`): each piece is tried as a patch ([`crate::geom::patch`]);
 /// where one fails, the nodes of its split (halves, quarters..., largest first), then the
 /// sub-leaves no proven node holds, each on its own.
 fn leaf_certify(
     lay: &LeafLayout,
     start: usize,
     items: &[u32],
-    local: &mut [u32],
     tris: &[[P3; 3]],
     turns: &[u8],
     check: &mut PatchCheck,
@@ -339,17 +337,10 @@ fn leaf_certify(
     for piece in &lay.pieces {
         let (a, b) = piece.range;
         let m = proves(check, a, b, &piece.boundary);
+        out.patches.push(m);
         if m != 0 {
-            out.patches.push((
-                m,
-                piece
-                    .boundary
-                    .as_ref()
-                    .map_or(Vec::new(), |l| l.edges.clone()),
-            ));
             continue;
         }
-        out.patches.push((0, Vec::new()));
         if piece.boundary.is_none()
             && piece.nodes.is_empty()
             && piece.sub_loops.iter().all(Option::is_none)
@@ -364,12 +355,7 @@ fn leaf_certify(
             }
             let m = proves(check, *na, *nb, l);
             if m != 0 {
-                nodes.push((
-                    *na,
-                    *nb,
-                    m,
-                    l.as_ref().map_or(Vec::new(), |l| l.edges.clone()),
-                ));
+                nodes.push((*na, *nb, m));
                 covered = *nb;
             }
         }
@@ -386,12 +372,9 @@ fn leaf_certify(
         }
     }
     // Proven nodes become patches of their own, numbered after the pieces.
-    for (a, b, m, edges) in nodes {
+    for (a, b, m) in nodes {
         let id = out.patches.len() as u32;
-        out.patches.push((m, edges));
-        for &p in &items[a..b] {
-            local[p as usize - start] = id;
-        }
+        out.patches.push(m);
         let mut from = 0;
         for (k, &e) in lay.ends.iter().enumerate() {
             let to = e as usize - start;
@@ -440,17 +423,16 @@ pub struct SelfPrep {
     sweep: Sweep,
     /// Patch certificates ([`crate::geom::patch`]; triangle meshes with consistently
     /// oriented edges). A patch is one connected piece (by shared edges) of one leaf; each
-    /// sub-leaf lies in one patch (`sub_patch`). Per patch: its usable projections ([`turn_mask`]; 0: not proven) when it is proven
-    /// free of self-intersection, and then its boundary edges (`3 * polygon + edge`,
-    /// `patch_bound[patch_bound_start[c]..patch_bound_start[c + 1]]`); per polygon its
-    /// patch; per sub-leaf whether it is proven on its own (in unproven patches).
-    patch_of: Vec<u32>,
+    /// sub-leaf lies in one patch (`sub_patch`). Per patch: its usable projections
+    /// ([`turn_mask`]; 0: not proven) when it is proven free of self-intersection; per
+    /// polygon its patch; per sub-leaf whether it is proven on its own (in unproven
+    /// patches). Two patches are not tried together (their union's loop cost more than the
+    /// pairs it saved once the fans decide neighbour pairs: rolled cloth 28.7 -> 23.8-25.6
+    /// ms, rods 62-64 -> 61, cloth-funnel 5.5-5.7 -> 4.8-4.9, armadillo 9.8-10.2 -> 8.6-8.7).
     sub_patch: Vec<u32>,
     patch_cert: Vec<u8>,
     /// Per leaf-order triangle: [`turn_mask`].
     turns: Vec<u8>,
-    patch_bound: Vec<u32>,
-    patch_bound_start: Vec<u32>,
     sub_cert: Vec<bool>,
     /// The layout of each leaf ([`LeafLayout`]), each polygon's piece within its leaf, and
     /// the mesh (id, polygons, leaves) they were made for.
@@ -598,33 +580,20 @@ impl SelfPrep {
                 self.fan_bits.extend(self.verts.iter().map(bits));
             }
         }
-        self.patch_of.clear();
-        self.patch_of.extend_from_slice(&self.piece_of);
         let (tris, turns, order) = (&self.tris[..], &self.turns[..], &self.order[..]);
         let layouts = &self.layouts;
-        let mut slices = Vec::with_capacity(m.leaf_count());
-        let mut rest_patch = &mut self.patch_of[..];
-        for l in 0..m.leaf_count() {
+        let cert = |check: &mut PatchCheck, l: usize| {
             let r = leaf_range(l);
-            let (this_p, tail_p) = std::mem::take(&mut rest_patch).split_at_mut(r.len());
-            slices.push((l, r, this_p));
-            rest_patch = tail_p;
-        }
-        let cert = |check: &mut PatchCheck,
-                    (l, r, local): (usize, std::ops::Range<usize>, &mut [u32])| {
-            leaf_certify(&layouts[l], r.start, &order[r], local, tris, turns, check)
+            leaf_certify(&layouts[l], r.start, &order[r], tris, turns, check)
         };
         let outs: Vec<LeafOut> = if certify {
-            map_checked(slices, par, cert)
+            map_checked((0..m.leaf_count()).collect(), par, cert)
         } else {
             Vec::new()
         };
         self.sub_patch.clear();
         self.sub_cert.clear();
         self.patch_cert.clear();
-        self.patch_bound.clear();
-        self.patch_bound_start.clear();
-        self.patch_bound_start.push(0);
         (self.certified_patches, self.certified_subs) = (0, 0);
         if !certify {
             // No certificate: every leaf one unproven patch.
@@ -634,27 +603,16 @@ impl SelfPrep {
                 self.sub_cert
                     .extend(std::iter::repeat_n(false, lay.ends.len()));
                 self.patch_cert.push(0);
-                self.patch_bound_start.push(0);
-                for x in &mut self.patch_of[leaf_range(l)] {
-                    *x = l as u32;
-                }
             }
         }
-        for (l, out) in outs.into_iter().enumerate() {
+        for out in outs {
             let first = self.patch_cert.len() as u32;
-            for x in &mut self.patch_of[leaf_range(l)] {
-                *x += first;
-            }
             self.sub_patch
                 .extend(out.sub_patch.iter().map(|&c| c + first));
             self.certified_subs += out.sub_ok.iter().filter(|&&x| x).count();
             self.sub_cert.extend(out.sub_ok);
-            for (pr, bound) in out.patches {
-                self.certified_patches += (pr != 0) as usize;
-                self.patch_cert.push(pr);
-                self.patch_bound.extend(bound);
-                self.patch_bound_start.push(self.patch_bound.len() as u32);
-            }
+            self.certified_patches += out.patches.iter().filter(|&&pr| pr != 0).count();
+            self.patch_cert.extend(out.patches);
         }
         self.boxes.clear();
         self.boxes
@@ -675,39 +633,6 @@ impl SelfPrep {
         for (i, b) in self.sub_boxes.iter().enumerate() {
             self.sub_grown.set(i, &b.grown(h));
         }
-    }
-
-    /// Patches `a` and `b` (different) together proven free of self-intersection: both
-    /// proven, with a projection in which all their triangles turn the same way, sharing
-    /// an edge, and their union's boundary (the two
-    /// boundaries less the edges they share) one simple loop.
-    fn patches_proven(&self, m: &Mesh, a: u32, b: u32, check: &mut PatchCheck) -> bool {
-        let (a, b) = (a as usize, b as usize);
-        let common = self.patch_cert[a] & self.patch_cert[b];
-        if common == 0 {
-            return false;
-        }
-        let Some(tw) = m.twins() else {
-            return false;
-        };
-        let bound = |c: usize| {
-            &self.patch_bound
-                [self.patch_bound_start[c] as usize..self.patch_bound_start[c + 1] as usize]
-        };
-        let into = |x: u32, c: usize| {
-            let t = tw[x as usize];
-            t != NONE && self.patch_of[t as usize] as usize == c
-        };
-        // Sharing no edge, the union has two boundary loops.
-        if !bound(a).iter().any(|&x| into(x, b)) {
-            return false;
-        }
-        let edges = bound(a)
-            .iter()
-            .copied()
-            .filter(|&x| !into(x, b))
-            .chain(bound(b).iter().copied().filter(|&x| !into(x, a)));
-        check.simple_loop(edges, mask_axis(common), &self.verts, &self.tris)
     }
 
     /// The range of `order` of sub-leaf `s`.
@@ -774,9 +699,6 @@ pub struct SelfScratch {
     masks: Vec<u32>,
     /// Sub-leaf pairs of the leaf pair at hand whose boxes meet.
     subs: Vec<(u32, u32)>,
-    check: PatchCheck,
-    /// Patch pairs of the leaf pair at hand whose union was tried, and the outcome.
-    unions: Vec<((u32, u32), bool)>,
     /// Polygons prepared for the narrow test (by leaf-order index) in the task at hand;
     /// their viewing volumes likewise (`h > 0`). Made on demand, only for the pairs the
     /// lanes leave undecided and for quads: a few per task, so kept in a short list with a
@@ -883,25 +805,13 @@ pub fn self_pairs(
     let k = m.vertices_per_polygon();
     let (adjacent, apart) = (&mut s.adjacent, &mut s.apart);
     let exact = h == 0.0;
-    let (check, unions) = (&mut s.check, &mut s.unions);
     let mut fans = 0;
     for &(i, j) in leaf_pairs {
-        unions.clear();
-        // Two sub-leaves are proven together when they lie in one proven patch, or in two
-        // whose union is proven (asked once per patch pair and leaf pair), or are one sub-leaf
-        // proven on its own.
+        // Two sub-leaves are proven together when they lie in one proven patch, or are one
+        // sub-leaf proven on its own.
         let proven_subs = |a: usize, b: usize| {
             let (pa, pb) = (prep.sub_patch[a], prep.sub_patch[b]);
-            if pa == pb {
-                return prep.patch_cert[pa as usize] != 0 || (a == b && prep.sub_cert[a]);
-            }
-            let key = (pa.min(pb), pa.max(pb));
-            if let Some(&(_, ok)) = unions.iter().find(|u| u.0 == key) {
-                return ok;
-            }
-            let ok = prep.patches_proven(m, key.0, key.1, check);
-            unions.push((key, ok));
-            ok
+            pa == pb && (prep.patch_cert[pa as usize] != 0 || (a == b && prep.sub_cert[a]))
         };
         prep.box_pairs(
             i as usize,
