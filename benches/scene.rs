@@ -4,6 +4,8 @@
 //! of every mesh (frame N, then N+1, alternately: a real deformation step) and one query with
 //! every mesh self-colliding, median over repeated frames, for 1 and 2 threads, exact and
 //! within 1e-3 of the scene's extent. Prints a Markdown table.
+//! The crumpled cloth (92,450 triangles, one mesh) cycles the four consecutive frames of
+//! bench/data/crumpled-cloth (made by `cargo bench --bench make_cloth`, see its README).
 //! A second table gives the stages of the median query ([`AllStats`]: broad phase, leaf
 //! pairs, polygon box pairs, adjacency decisions, narrow tests, mesh pairs' five steps).
 //!   cargo bench --bench scene [-- FRAMES]
@@ -13,7 +15,7 @@
 //! Environment: `SCENE=substring` keeps the scenes whose name contains it, `EPS=0` or
 //! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count,
 //! `SPHERES=10,100,1000` the body counts of the spheres scene (default 1000), `DUMP=DIR`
-//! writes the scenes' two frames as OBJ files under DIR (for the C++ peers), `INTER=1`
+//! writes the scenes' frames as OBJ files under DIR (for the C++ peers), `INTER=1`
 //! leaves self-collision off (pairs between bodies only, as `bench/scene_peers` compares).
 
 use std::time::Instant;
@@ -39,18 +41,19 @@ fn median(v: &mut [f64]) -> f64 {
     v[v.len() / 2]
 }
 
-/// Meshes of one scene: topology and two frames of positions.
+/// Meshes of one scene: topology and frames of positions (every mesh's, per frame), which a
+/// run cycles through.
 struct Case {
     name: String,
     idx: Vec<Vec<u32>>,
-    frames: [Vec<Vec<[f32; 3]>>; 2],
+    frames: Vec<Vec<Vec<[f32; 3]>>>,
     extent: f32,
 }
 
 fn sim_case(scene: &str, frame: u32) -> Case {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/meshes/sim");
     let mut idx = Vec::new();
-    let mut frames = [Vec::new(), Vec::new()];
+    let mut frames = vec![Vec::new(), Vec::new()];
     for part in 0.. {
         let p = |f: u32| format!("{dir}/{scene}/frame{f}_part{part:02}.obj");
         if !std::path::Path::new(&p(frame)).exists() {
@@ -115,7 +118,7 @@ fn spheres_case(n: usize) -> Case {
         seed ^= seed << 17;
         (seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5
     };
-    let mut frames = [Vec::new(), Vec::new()];
+    let mut frames = vec![Vec::new(), Vec::new()];
     for i in 0..n {
         let c = [
             (i % side) as f32,
@@ -189,7 +192,7 @@ fn rolled_cloth_case() -> Case {
             .map(|q| [0, 1, 2].map(|k| (q[k] - centre[k]) * (r0 as f32 - 0.002)))
             .collect()
     };
-    let frames = [vec![sheet(0.0), ball_at(0)], vec![sheet(0.05), ball_at(1)]];
+    let frames = vec![vec![sheet(0.0), ball_at(0)], vec![sheet(0.05), ball_at(1)]];
     let extent = extent_of(frames[0].iter().flatten());
     Case {
         name: format!("rolled cloth of {} triangles + ball", tris.len() / 3),
@@ -231,8 +234,45 @@ fn sheet_case(n: u32, jitter: f32) -> Case {
     Case {
         name: format!("{what} cloth {n}x{n}"),
         idx: vec![tris],
-        frames: [vec![pos.clone()], vec![pos]],
+        frames: vec![vec![pos.clone()], vec![pos]],
         extent: 1.0,
+    }
+}
+
+/// The 92k cloth crumpled over a ball by benches/make_cloth.rs: its four consecutive frames
+/// of bench/data/crumpled-cloth (raw little-endian f32, 216 x 216 vertices), triangulated as
+/// [`sheet_case`]. The ball is not part of it.
+fn crumpled_cloth_case() -> Case {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/bench/data/crumpled-cloth");
+    let w = 216u32;
+    let mut tris = Vec::new();
+    for j in 0..w - 1 {
+        for i in 0..w - 1 {
+            let v = j * w + i;
+            tris.extend([v, v + 1, v + w + 1, v, v + w + 1, v + w]);
+        }
+    }
+    let frames: Vec<Vec<Vec<[f32; 3]>>> = (0..4)
+        .map(|f| {
+            let path = format!("{dir}/frame{f}.f32");
+            let bytes = std::fs::read(&path)
+                .unwrap_or_else(|e| panic!("{path}: {e} (cargo bench --bench make_cloth)"));
+            assert_eq!(bytes.len(), (w * w * 12) as usize, "{path}: size");
+            let p = bytes
+                .chunks_exact(12)
+                .map(|v| {
+                    [0, 1, 2].map(|k| f32::from_le_bytes(v[4 * k..4 * k + 4].try_into().unwrap()))
+                })
+                .collect();
+            vec![p]
+        })
+        .collect();
+    let extent = extent_of(frames[0].iter().flatten());
+    Case {
+        name: format!("crumpled cloth of {} triangles", tris.len() / 3),
+        idx: vec![tris],
+        frames,
+        extent,
     }
 }
 
@@ -262,7 +302,7 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64
     let mut cpu = Vec::new();
     for f in 0..frames {
         let t = Instant::now();
-        for (&id, p) in ids.iter().zip(&case.frames[f % 2]) {
+        for (&id, p) in ids.iter().zip(&case.frames[f % case.frames.len()]) {
             s.update_positions(id, 0, Positions::from_points(p))
                 .unwrap();
         }
@@ -285,7 +325,7 @@ fn run(case: &Case, epsilon: f32, threads: u32, frames: usize) -> (f64, f64, f64
     )
 }
 
-/// Writes `case` as OBJ files `DIR/NAME/frame{0,1}_partNN.obj` (the layout of
+/// Writes `case` as OBJ files `DIR/NAME/frame{0,1,..}_partNN.obj` (the layout of
 /// ../shared/meshes/sim), for the C++ peers (`DUMP=DIR`).
 fn dump(case: &Case, dir: &str) {
     use std::fmt::Write;
@@ -309,7 +349,10 @@ fn dump(case: &Case, dir: &str) {
             std::fs::write(&path, s).expect("writing an OBJ");
         }
     }
-    println!("wrote {out}/frame{{0,1}}_part*.obj");
+    println!(
+        "wrote {out}/frame{{0..{}}}_part*.obj",
+        case.frames.len() - 1
+    );
 }
 
 fn ms(n: u64) -> String {
@@ -371,6 +414,9 @@ fn main() {
         .collect();
     if keep("rolled cloth") {
         cases.push(rolled_cloth_case());
+    }
+    if keep("crumpled cloth of 92450 triangles") {
+        cases.push(crumpled_cloth_case());
     }
     for n in [100, 300] {
         for jitter in [0.0, 1e-4] {
