@@ -87,6 +87,8 @@ pub fn mesh_pairs(
 
 /// Polygons per sub-leaf of a self-colliding mesh (see [`SelfPrep`]).
 const SUB_LEAF: usize = 16;
+// A sub-leaf's polygon boxes are tested sixteen at a time (`Lanes::each_pair_16`).
+const _: () = assert!(SUB_LEAF <= 16);
 
 /// Polygons from which [`SelfPrep::make`] shares a mesh's preparation between workers.
 const PAR_MIN: usize = 4096;
@@ -642,7 +644,7 @@ impl SelfPrep {
     }
 
     /// Calls `f(p, q, proven)` for the leaf-order polygons `p` of leaf `i` and `q` of leaf
-    /// `j` whose boxes meet once `p`'s is grown by `h` (`p < q` when `i == j`), each pair
+    /// `j` whose boxes meet once `p`'s is grown by `h` (`p != q`), each unordered pair
     /// once; `proven`: `proven_subs` of their two sub-leaves said that both lie in a patch
     /// proven free of self-intersection. With `exact` (epsilon 0) the pairs of proven
     /// sub-leaf pairs are not enumerated at all. `masks` and `subs` are scratch.
@@ -680,11 +682,13 @@ impl SelfPrep {
             }
             let rb = self.sub(b);
             let cands = &self.boxes[rb.clone()];
-            self.lanes.each_pair(self.sub(a), cands, masks, |x, y| {
-                let (p, q) = (self.order[x as usize], self.order[rb.start + y as usize]);
-                if a != b || p < q {
-                    f(p, q, proven);
-                }
+            // Within one sub-leaf, candidate `y` against the boxes after it only.
+            self.lanes.each_pair_16(self.sub(a), cands, a == b, |x, y| {
+                f(
+                    self.order[x as usize],
+                    self.order[rb.start + y as usize],
+                    proven,
+                );
             });
         }
     }

@@ -7,9 +7,11 @@ use crate::mesh::Mesh;
 
 /// Boxes tested together.
 const LANES: usize = 8;
+/// Padding after the boxes: two chunks ([`Lanes::each_pair_16`] reads sixteen boxes).
+const PAD: usize = 2 * LANES;
 
-/// `len` boxes followed by [`LANES`] padding boxes that meet nothing (min `+inf`, max
-/// `-inf`), so that the eight boxes from any position below `len` can be read.
+/// `len` boxes followed by [`PAD`] padding boxes that meet nothing (min `+inf`, max
+/// `-inf`), so that the sixteen boxes from any position below `len` can be read.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Lanes {
     lo: [Vec<f32>; 3],
@@ -20,7 +22,7 @@ impl Lanes {
     /// Number of boxes (padding not counted).
     #[inline]
     pub fn len(&self) -> usize {
-        self.lo[0].len().saturating_sub(LANES)
+        self.lo[0].len().saturating_sub(PAD)
     }
 
     /// Makes room for `n` boxes (their contents unspecified), padded.
@@ -28,10 +30,10 @@ impl Lanes {
         for k in 0..3 {
             self.lo[k].resize(n, f32::INFINITY);
             self.lo[k].truncate(n);
-            self.lo[k].resize(n + LANES, f32::INFINITY);
+            self.lo[k].resize(n + PAD, f32::INFINITY);
             self.hi[k].resize(n, f32::NEG_INFINITY);
             self.hi[k].truncate(n);
-            self.hi[k].resize(n + LANES, f32::NEG_INFINITY);
+            self.hi[k].resize(n + PAD, f32::NEG_INFINITY);
         }
     }
 
@@ -136,6 +138,119 @@ impl Lanes {
             let r = start..(start + BLOCK * LANES).min(range.end);
             for (b, block) in cands.chunks(BLOCK).enumerate() {
                 self.each_pair_block(r.clone(), block, (b * BLOCK) as u32, masks, &mut f);
+            }
+        }
+    }
+
+    /// [`Lanes::each_pair`] for a range of at most 16 boxes (a self-colliding mesh's
+    /// sub-leaf), the same calls in the same order: each candidate's bits of both chunks
+    /// in one word, taken at once (no mask buffer, no division to name an entry). With
+    /// `upper` (the candidates are the range's own boxes), candidate `c` is paired with
+    /// the boxes after it only: each unordered pair once, no box with itself.
+    #[inline]
+    pub fn each_pair_16(
+        &self,
+        range: std::ops::Range<usize>,
+        cands: &[Aabb],
+        upper: bool,
+        mut f: impl FnMut(u32, u32),
+    ) {
+        assert!(range.end <= self.len() && range.len() <= 2 * LANES);
+        assert!(!upper || cands.len() == range.len());
+        if range.is_empty() {
+            return;
+        }
+        let keep = (1u32 << range.len()) - 1;
+        // With `upper`, candidate `c` drops the lanes up to and including its own.
+        let below = |c: usize| if upper { (2u32 << c) - 1 } else { 0 };
+        let first = range.start as u32;
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above; the range plus padding
+            // holds 16 boxes.
+            unsafe { self.pairs_16_avx2(range.start, cands, keep, below, first, &mut f) };
+            return;
+        }
+        self.pairs_16_plain(range.start, cands, keep, below, first, &mut f);
+    }
+
+    /// [`Lanes::each_pair_16`] one box at a time (no AVX2).
+    fn pairs_16_plain(
+        &self,
+        start: usize,
+        cands: &[Aabb],
+        keep: u32,
+        below: impl Fn(usize) -> u32,
+        first: u32,
+        f: &mut impl FnMut(u32, u32),
+    ) {
+        let run = self.run(start..start + 2 * LANES);
+        for (c, b) in cands.iter().enumerate() {
+            let mut bits = 0u32;
+            #[allow(clippy::needless_range_loop)]
+            for i in 0..2 * LANES {
+                let meets = (run[3][i] >= b.min[0])
+                    & (run[0][i] <= b.max[0])
+                    & (run[4][i] >= b.min[1])
+                    & (run[1][i] <= b.max[1])
+                    & (run[5][i] >= b.min[2])
+                    & (run[2][i] <= b.max[2]);
+                bits |= u32::from(meets) << i;
+            }
+            bits &= keep & !below(c);
+            while bits != 0 {
+                f(first + bits.trailing_zeros(), c as u32);
+                bits &= bits - 1;
+            }
+        }
+    }
+
+    /// [`Lanes::each_pair_16`] in AVX2: the 16 boxes from `start` (padding included)
+    /// loaded once, each candidate compared with both chunks.
+    ///
+    /// # Safety
+    /// The CPU must support AVX2; `start + 16` boxes (with padding) must be stored.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn pairs_16_avx2(
+        &self,
+        start: usize,
+        cands: &[Aabb],
+        keep: u32,
+        below: impl Fn(usize) -> u32,
+        first: u32,
+        f: &mut impl FnMut(u32, u32),
+    ) {
+        use std::arch::x86_64::*;
+        let run = self.run(start..start + 2 * LANES);
+        // SAFETY: each slice holds sixteen floats; the loads need no alignment.
+        let ld = |k: usize, h: usize| unsafe { _mm256_loadu_ps(run[k][h * LANES..].as_ptr()) };
+        let lo = [0, 1].map(|h| [ld(0, h), ld(1, h), ld(2, h)]);
+        let hi = [0, 1].map(|h| [ld(3, h), ld(4, h), ld(5, h)]);
+        for (c, b) in cands.iter().enumerate() {
+            let min = b.min.map(|x| _mm256_set1_ps(x));
+            let max = b.max.map(|x| _mm256_set1_ps(x));
+            let half = |h: usize| {
+                // Ordered, non-signalling compares: `>=` and `<=` as in Rust.
+                let (l, u) = (&lo[h], &hi[h]);
+                let x = _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(u[0], min[0]),
+                    _mm256_cmp_ps::<_CMP_LE_OQ>(l[0], max[0]),
+                );
+                let y = _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(u[1], min[1]),
+                    _mm256_cmp_ps::<_CMP_LE_OQ>(l[1], max[1]),
+                );
+                let z = _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(u[2], min[2]),
+                    _mm256_cmp_ps::<_CMP_LE_OQ>(l[2], max[2]),
+                );
+                _mm256_movemask_ps(_mm256_and_ps(x, _mm256_and_ps(y, z))) as u32
+            };
+            let mut bits = (half(0) | half(1) << LANES) & keep & !below(c);
+            while bits != 0 {
+                f(first + bits.trailing_zeros(), c as u32);
+                bits &= bits - 1;
             }
         }
     }
@@ -336,6 +451,58 @@ mod tests {
                 assert_eq!(got, want);
             }
         }
+        // Ranges of at most 16 boxes: the 16-box kernel gives each_pair's calls, in order.
+        let mut own_pairs = 0;
+        let chain: Vec<Aabb> = (0..boxes.len())
+            .map(|i| {
+                let x = 0.3 * i as f32 + rnd();
+                Aabb {
+                    min: [x, rnd(), 0.0],
+                    max: [x + 1.0, 1.0 + rnd(), 1.0],
+                }
+            })
+            .collect();
+        let mut dense = Lanes::default();
+        dense.resize(chain.len());
+        for (i, b) in chain.iter().enumerate() {
+            dense.set(i, b);
+        }
+        for range in [0..16, 3..19, 21..37, 30..37, 36..37, 9..9, 5..13] {
+            let (mut want, mut got) = (Vec::new(), Vec::new());
+            let cands = &boxes[..];
+            lanes.each_pair(range.clone(), cands, &mut Vec::new(), |i, c| {
+                want.push((c, i))
+            });
+            lanes.each_pair_16(range.clone(), cands, false, |i, c| got.push((c, i)));
+            assert_eq!(got, want, "{range:?}");
+            if range.len() > 3 {
+                assert!(!want.is_empty());
+            }
+            // The range against itself, each unordered pair once (a chain of boxes, each
+            // meeting the next few).
+            let own = &chain[range.clone()];
+            let (mut want, mut got) = (Vec::new(), Vec::new());
+            dense.each_pair(range.clone(), own, &mut Vec::new(), |i, c| {
+                if i > range.start as u32 + c {
+                    want.push((c, i));
+                }
+            });
+            dense.each_pair_16(range.clone(), own, true, |i, c| got.push((c, i)));
+            assert_eq!(got, want, "{range:?} with itself");
+            // The portable path too (the test machine may have AVX2).
+            if !range.is_empty() {
+                let keep = (1u32 << range.len()) - 1;
+                let mut plain = Vec::new();
+                let below = |c: usize| (2u32 << c) - 1;
+                let at = range.start as u32;
+                dense.pairs_16_plain(range.start, own, keep, below, at, &mut |i, c| {
+                    plain.push((c, i))
+                });
+                assert_eq!(plain, want, "{range:?} with itself, portable");
+            }
+            own_pairs += want.len();
+        }
+        assert!(own_pairs > 10, "{own_pairs} pairs within the ranges");
         // Past 2^24 chunk tests the range is taken block by block: same pairs.
         let many: Vec<Aabb> = (0..5000).map(|i| boxes[i % boxes.len()]).collect();
         let mut big = Lanes::default();
