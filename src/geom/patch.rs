@@ -67,14 +67,34 @@ pub fn twins(verts: &[[u32; 3]]) -> Option<Vec<u32>> {
 /// The projections in which triangle `t` turns strictly positively (bit `2 k`) or
 /// negatively (bit `2 k + 1`) when coordinate `k` is dropped (exact `orient2d`): a
 /// patch's usable projections are the common bits of its triangles.
+///
+/// The three determinants are first taken in floating point with Shewchuk's error bound
+/// for `orient2d` (`(3 + 16 eps) eps` times the sum of the two products' magnitudes,
+/// rounding of the differences included), all three at once; only a projection whose
+/// sign that bound leaves uncertain (or whose magnitudes are near underflow) asks the
+/// exact predicate.
+#[inline]
 pub fn turn_mask(t: &[P3; 3]) -> u8 {
+    const EPS: f64 = f64::EPSILON / 2.0;
+    const BOUND: f64 = (3.0 + 16.0 * EPS) * EPS;
+    // Below this the products may have lost bits to underflow: the exact predicate.
+    const TINY: f64 = 1e-250;
     let mut m = 0;
     for k in 0..3 {
-        let o = orient2d(
+        let (a, b, c) = (
             drop_axis(&t[0], k),
             drop_axis(&t[1], k),
             drop_axis(&t[2], k),
         );
+        let left = (a[0] - c[0]) * (b[1] - c[1]);
+        let right = (a[1] - c[1]) * (b[0] - c[0]);
+        let det = left - right;
+        let sum = left.abs() + right.abs();
+        let o = if det.abs() > BOUND * sum && sum > TINY {
+            det
+        } else {
+            orient2d(a, b, c)
+        };
         m |= ((o > 0.0) as u8) << (2 * k) | ((o < 0.0) as u8) << (2 * k + 1);
     }
     m
@@ -314,6 +334,62 @@ mod tests {
             }
         }
         (verts, pos)
+    }
+
+    /// The filtered mask against the exact predicate, projection by projection: random
+    /// triangles, nearly collinear ones, tiny, huge and far from the origin.
+    #[test]
+    fn turn_mask_is_the_exact_predicates() {
+        let exact = |t: &[P3; 3]| {
+            let mut m = 0;
+            for k in 0..3 {
+                let o = orient2d(
+                    drop_axis(&t[0], k),
+                    drop_axis(&t[1], k),
+                    drop_axis(&t[2], k),
+                );
+                m |= ((o > 0.0) as u8) << (2 * k) | ((o < 0.0) as u8) << (2 * k + 1);
+            }
+            m
+        };
+        let mut rng = crate::geom::test_rng::Rng(0x1234_5678_9ABC_DEF1);
+        let mut uncertain = 0;
+        for round in 0..200_000 {
+            let (scale, offset) = [
+                (1.0, 0.0),
+                (2f64.powi(-600), 0.0),
+                (2f64.powi(600), 0.0),
+                (1.0, 1e6),
+                (2f64.powi(-10), 1e3),
+            ][round % 5];
+            let t: [P3; 3] = if round / 5 % 2 == 0 {
+                // Exactly collinear in every projection (small integers, powers of two):
+                // all three determinants 0, most of them past the filter.
+                let mut int = || (rng.next() % 2001) as f64 - 1000.0;
+                let a: P3 = std::array::from_fn(|_| int() * scale + offset);
+                let d: P3 = std::array::from_fn(|_| int() * scale);
+                let (s, u) = ((rng.next() % 7) as f64 - 3.0, (rng.next() % 7) as f64 - 3.0);
+                [0.0, s, u].map(|f| std::array::from_fn(|k| a[k] + f * d[k]))
+            } else {
+                // Nearly collinear: b and c up to `tiny` off the line, rounded to float.
+                let a: P3 = std::array::from_fn(|_| rng.f() * scale + offset);
+                let d: P3 = std::array::from_fn(|_| rng.f() * scale);
+                let tiny = [1.0, 1e-7, 1e-12, 1e-16][round / 10 % 4];
+                let (s, u) = (rng.f(), rng.f());
+                let b: P3 = std::array::from_fn(|k| a[k] + s * d[k] + tiny * rng.f() * scale);
+                let c: P3 = std::array::from_fn(|k| a[k] + u * d[k] + tiny * rng.f() * scale);
+                // (Rounded to float where float holds the scale.)
+                let float = (1e-30..1e30).contains(&scale);
+                [a, b, c].map(|p| p.map(|x| if float { x as f32 as f64 } else { x }))
+            };
+            let (want, got) = (exact(&t), turn_mask(&t));
+            assert_eq!(got, want, "{t:?}");
+            uncertain += (want.count_ones() < 3) as u32;
+        }
+        assert!(
+            uncertain > 1000,
+            "{uncertain} triangles with a zero projection"
+        );
     }
 
     #[test]

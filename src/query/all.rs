@@ -414,12 +414,13 @@ pub struct SelfPrep {
     /// pairs are tested eight at a time too).
     sub_boxes: Vec<Aabb>,
     sub_grown: Lanes,
-    /// Per leaf-order polygon: its box; the caller's vertex indices (the first `k` count).
+    /// Per leaf-order polygon: its box when the layout was made; the caller's vertex
+    /// indices (the first `k` count), kept with the layout.
     poly_boxes: Vec<Aabb>,
     verts: Vec<[u32; 4]>,
-    /// Triangle meshes: per leaf-order polygon, its corners in `f64` and its plane.
+    /// Triangle meshes: per leaf-order polygon, its corners in `f64` (a plane is made only
+    /// for the few neighbour pairs the fans leave to a test).
     tris: Vec<[P3; 3]>,
-    planes: Vec<Plane>,
     grown_leaves: Vec<Aabb>,
     found: Vec<(u32, u32)>,
     sweep: Sweep,
@@ -446,6 +447,7 @@ pub struct SelfPrep {
     /// and per leaf-order polygon the corners whose fan is proven (bit `c`): a neighbour
     /// pair sharing such a corner is decided without a test.
     fans: Fans,
+    fan_scratch: Vec<bool>,
     fan_ok: Vec<bool>,
     fan_bits: Vec<u8>,
     /// Vertices whose fan is proven in the last [`SelfPrep::make`].
@@ -478,10 +480,12 @@ impl SelfPrep {
         self.leaf_pairs
             .extend(self.found.iter().copied().filter(|&(i, j)| i <= j));
         self.leaf_pairs.sort_unstable();
-        self.poly_boxes.clear();
-        self.verts.clear();
-        self.tris.clear();
-        self.planes.clear();
+        // The layout (pieces, sub-leaf split, boundary loops; the vertex indices and fans)
+        // is made at the first query of this mesh and kept (a mesh's topology never
+        // changes, and its id is never reused): later queries refit the sub-leaves' boxes
+        // and redo only the certificates' exact tests on the new positions.
+        let key = (id, n, m.leaf_count());
+        let new_layout = self.layout_key != Some(key);
         let tri = |p: usize| {
             let mut t = [[[0.0; 3]; 3]; 2];
             m.triangles(p, &mut t);
@@ -490,36 +494,39 @@ impl SelfPrep {
         let triangles = m.vertices_per_polygon() == 3;
         let tw = m.twins();
         let certify = tw.is_some();
+        self.tris.clear();
         self.turns.clear();
+        if new_layout {
+            self.verts.clear();
+            self.poly_boxes.clear();
+        }
         if par {
-            self.poly_boxes
-                .par_extend((0..n).into_par_iter().map(|p| m.poly_box(p)));
-            self.verts
-                .par_extend((0..n).into_par_iter().map(|p| vertices(m, p)));
+            if new_layout {
+                self.poly_boxes
+                    .par_extend((0..n).into_par_iter().map(|p| m.poly_box(p)));
+                self.verts
+                    .par_extend((0..n).into_par_iter().map(|p| vertices(m, p)));
+            }
             if triangles {
                 self.tris.par_extend((0..n).into_par_iter().map(tri));
-                self.planes.par_extend(self.tris.par_iter().map(Plane::of));
             }
             if certify {
                 self.turns.par_extend(self.tris.par_iter().map(turn_mask));
             }
         } else {
-            self.poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
-            self.verts.extend((0..n).map(|p| vertices(m, p)));
+            if new_layout {
+                self.poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
+                self.verts.extend((0..n).map(|p| vertices(m, p)));
+            }
             if triangles {
                 self.tris.extend((0..n).map(tri));
-                self.planes.extend(self.tris.iter().map(Plane::of));
             }
             if certify {
                 self.turns.extend(self.tris.iter().map(turn_mask));
             }
         }
-        // The layout (pieces, sub-leaf split, boundary loops) is made at the first query of
-        // this mesh and kept: later queries refit the sub-leaves' boxes and redo only the
-        // certificates' exact tests on the new positions.
-        let key = (id, n, m.leaf_count());
         let leaf_range = |l: usize| m.leaves.polys(l);
-        if self.layout_key != Some(key) {
+        if new_layout {
             self.order.clear();
             self.order.extend(0..n as u32);
             self.piece_of.clear();
@@ -560,15 +567,9 @@ impl SelfPrep {
             self.layout_key = Some(key);
         }
         // The fans' verdicts, then each polygon's proven corners.
-        let (fans, tris, turns) = (&self.fans, &self.tris[..], &self.turns[..]);
-        let prove = |v: usize| fans.proven(v, tris, turns);
-        self.fan_ok.clear();
-        if par {
-            self.fan_ok
-                .par_extend((0..fans.len()).into_par_iter().map(prove));
-        } else {
-            self.fan_ok.extend((0..fans.len()).map(prove));
-        }
+        let (tris, turns) = (&self.tris[..], &self.turns[..]);
+        self.fans
+            .prove(tris, turns, par, &mut self.fan_scratch, &mut self.fan_ok);
         self.certified_fans = self.fan_ok.iter().filter(|&&x| x).count();
         self.fan_bits.clear();
         if self.fan_ok.is_empty() {
@@ -617,8 +618,14 @@ impl SelfPrep {
             self.patch_cert.extend(out.patches);
         }
         self.boxes.clear();
-        self.boxes
-            .extend(self.order.iter().map(|&p| self.poly_boxes[p as usize]));
+        if par {
+            let order = &self.order;
+            self.boxes
+                .par_extend(order.par_iter().map(|&p| m.poly_box(p as usize)));
+        } else {
+            self.boxes
+                .extend(self.order.iter().map(|&p| m.poly_box(p as usize)));
+        }
         self.lanes.resize(n);
         for (i, b) in self.boxes.iter().enumerate() {
             self.lanes.set(i, &b.grown(h));
@@ -865,8 +872,8 @@ pub fn self_pairs(
         if k == 3 {
             let (ip, iq) = ([vp[0], vp[1], vp[2]], [vq[0], vq[1], vq[2]]);
             let (tp, tq) = (&prep.tris[p], &prep.tris[q]);
-            let (pp, pq) = (&prep.planes[p], &prep.planes[q]);
-            if triangles_touch_only_at_joint_planes(&ip, tp, pp, &iq, tq, pq) {
+            let (pp, pq) = (Plane::of(tp), Plane::of(tq));
+            if triangles_touch_only_at_joint_planes(&ip, tp, &pp, &iq, tq, &pq) {
                 quick += 1;
                 continue;
             }
