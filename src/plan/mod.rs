@@ -43,6 +43,8 @@ pub(crate) struct Planner {
     broad: BroadPhase,
     /// The self-colliding meshes made ready for the query, kept from query to query.
     self_preps: Vec<SelfPrep>,
+    /// The whole-scene answer's pairs as sort keys (scratch of the merge).
+    merge_keys: Vec<u128>,
     /// Stages of the last whole-scene query.
     all_stats: AllStats,
     /// The continuous query's meshes over the step, leaf pairs and broad-phase scratch,
@@ -62,6 +64,7 @@ impl Planner {
             workers: Workers::new(threads),
             broad: BroadPhase::default(),
             self_preps: Vec::new(),
+            merge_keys: Vec::new(),
             all_stats: AllStats::default(),
             swept: Vec::new(),
             leaf_pairs: Vec::new(),
