@@ -123,6 +123,30 @@ impl Fans {
         false
     }
 
+    /// The same fans with triangle `p` renumbered `at[p]` (a permutation), stored in the
+    /// order of their first triangle's new number.
+    pub fn renumber(&mut self, at: &[u32]) {
+        for x in &mut self.ring {
+            *x = 3 * at[*x as usize / 3] + *x % 3;
+        }
+        let mut by_first: Vec<usize> = (0..self.vertex.len()).collect();
+        by_first.sort_unstable_by_key(|&i| self.ring[self.start[i] as usize]);
+        let mut fans = Fans {
+            vertex: Vec::with_capacity(self.vertex.len()),
+            start: Vec::with_capacity(self.start.len()),
+            ring: Vec::with_capacity(self.ring.len()),
+            vertex_count: self.vertex_count,
+        };
+        fans.start.push(0);
+        for i in by_first {
+            fans.vertex.push(self.vertex[i]);
+            let r = self.start[i] as usize..self.start[i + 1] as usize;
+            fans.ring.extend_from_slice(&self.ring[r]);
+            fans.start.push(fans.ring.len() as u32);
+        }
+        *self = fans;
+    }
+
     /// Each vertex's verdict for these positions into `ok` (by vertex index; false where
     /// there is no closed fan): `tris[p]` triangle `p`'s corners, `turns[p]` its
     /// [`turn_mask`](super::patch::turn_mask). With `par`, shared between the caller's

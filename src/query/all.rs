@@ -307,14 +307,13 @@ fn leaf_layout(
     out
 }
 
-/// This query's certificates of one leaf laid out as `lay` (`items`: its polygons in leaf
-/// order from `start`): each piece is tried as a patch ([`crate::geom::patch`]);
+/// This query's certificates of one leaf laid out as `lay` (its polygons at positions
+/// `start..` of the layout's order, the numbering of `tris` and `turns`): each piece is tried as a patch ([`crate::geom::patch`]);
 /// where one fails, the nodes of its split (halves, quarters..., largest first), then the
 /// sub-leaves no proven node holds, each on its own.
 fn leaf_certify(
     lay: &LeafLayout,
     start: usize,
-    items: &[u32],
     tris: &[[P3; 3]],
     turns: &[u8],
     check: &mut PatchCheck,
@@ -328,7 +327,7 @@ fn leaf_certify(
         let Some(l) = l else {
             return 0;
         };
-        let m = common_turns(&mut items[a..b].iter().map(|&p| p as usize), turns);
+        let m = common_turns(&mut (start + a..start + b), turns);
         if m != 0 && check.simple(l, mask_axis(m), tris) {
             m
         } else {
@@ -414,12 +413,12 @@ pub struct SelfPrep {
     /// pairs are tested eight at a time too).
     sub_boxes: Vec<Aabb>,
     sub_grown: Lanes,
-    /// Per leaf-order polygon: its box when the layout was made; the caller's vertex
-    /// indices (the first `k` count), kept with the layout.
-    poly_boxes: Vec<Aabb>,
+    /// Per polygon, numbered by position in `order` (as every per-polygon array here and
+    /// the pairs [`SelfPrep::box_pairs`] names): the caller's vertex indices (the first
+    /// `k` count), kept with the layout.
     verts: Vec<[u32; 4]>,
-    /// Triangle meshes: per leaf-order polygon, its corners in `f64` (a plane is made only
-    /// for the few neighbour pairs the fans leave to a test).
+    /// Triangle meshes: per polygon, its corners in `f64` (a plane is made only for the
+    /// few neighbour pairs the fans leave to a test).
     tris: Vec<[P3; 3]>,
     grown_leaves: Vec<Aabb>,
     found: Vec<(u32, u32)>,
@@ -486,85 +485,35 @@ impl SelfPrep {
         // and redo only the certificates' exact tests on the new positions.
         let key = (id, n, m.leaf_count());
         let new_layout = self.layout_key != Some(key);
-        let tri = |p: usize| {
+        let tri = |x: &u32| {
             let mut t = [[[0.0; 3]; 3]; 2];
-            m.triangles(p, &mut t);
+            m.triangles(*x as usize, &mut t);
             t[0]
         };
         let triangles = m.vertices_per_polygon() == 3;
         let tw = m.twins();
         let certify = tw.is_some();
+        let leaf_range = |l: usize| m.leaves.polys(l);
+        if new_layout {
+            self.make_layout(m, key, par);
+        }
+        // Per position of `order`: the triangle's corners and turn mask.
         self.tris.clear();
         self.turns.clear();
-        if new_layout {
-            self.verts.clear();
-            self.poly_boxes.clear();
-        }
         if par {
-            if new_layout {
-                self.poly_boxes
-                    .par_extend((0..n).into_par_iter().map(|p| m.poly_box(p)));
-                self.verts
-                    .par_extend((0..n).into_par_iter().map(|p| vertices(m, p)));
-            }
             if triangles {
-                self.tris.par_extend((0..n).into_par_iter().map(tri));
+                self.tris.par_extend(self.order.par_iter().map(tri));
             }
             if certify {
                 self.turns.par_extend(self.tris.par_iter().map(turn_mask));
             }
         } else {
-            if new_layout {
-                self.poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
-                self.verts.extend((0..n).map(|p| vertices(m, p)));
-            }
             if triangles {
-                self.tris.extend((0..n).map(tri));
+                self.tris.extend(self.order.iter().map(tri));
             }
             if certify {
                 self.turns.extend(self.tris.iter().map(turn_mask));
             }
-        }
-        let leaf_range = |l: usize| m.leaves.polys(l);
-        if new_layout {
-            self.order.clear();
-            self.order.extend(0..n as u32);
-            self.piece_of.clear();
-            self.piece_of.resize(n, 0);
-            let (verts, pb) = (&self.verts[..], &self.poly_boxes[..]);
-            let mut slices = Vec::with_capacity(m.leaf_count());
-            let (mut rest, mut rest_piece) = (&mut self.order[..], &mut self.piece_of[..]);
-            for l in 0..m.leaf_count() {
-                let r = leaf_range(l);
-                debug_assert_eq!(
-                    r.start,
-                    n - rest.len(),
-                    "leaves cover the polygons in order"
-                );
-                let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
-                let (this_p, tail_p) = std::mem::take(&mut rest_piece).split_at_mut(r.len());
-                slices.push((r.start, this, this_p));
-                rest = tail;
-                rest_piece = tail_p;
-            }
-            let lay =
-                |check: &mut PatchCheck, (start, items, local): (usize, &mut [u32], &mut [u32])| {
-                    leaf_layout(start, items, local, pb, tw, verts, check)
-                };
-            self.layouts = map_checked(slices, par, lay);
-            self.sub_start.clear();
-            self.sub_start.push(0);
-            self.leaf_sub.clear();
-            self.leaf_sub.push(0);
-            for lay in &self.layouts {
-                self.sub_start.extend(&lay.ends);
-                self.leaf_sub.push(self.sub_start.len() as u32 - 1);
-            }
-            self.fans = match tw {
-                Some(tw) if triangles => Fans::new(m.vertex_count(), &self.verts, tw),
-                _ => Fans::default(),
-            };
-            self.layout_key = Some(key);
         }
         // The fans' verdicts, then each polygon's proven corners.
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
@@ -583,11 +532,10 @@ impl SelfPrep {
                 self.fan_bits.extend(self.verts.iter().map(bits));
             }
         }
-        let (tris, turns, order) = (&self.tris[..], &self.turns[..], &self.order[..]);
+        let (tris, turns) = (&self.tris[..], &self.turns[..]);
         let layouts = &self.layouts;
         let cert = |check: &mut PatchCheck, l: usize| {
-            let r = leaf_range(l);
-            leaf_certify(&layouts[l], r.start, &order[r], tris, turns, check)
+            leaf_certify(&layouts[l], leaf_range(l).start, tris, turns, check)
         };
         let outs: Vec<LeafOut> = if certify {
             map_checked((0..m.leaf_count()).collect(), par, cert)
@@ -644,14 +592,95 @@ impl SelfPrep {
         }
     }
 
+    /// The layout of mesh `m` (the first query of this mesh): each leaf's pieces, sub-leaf
+    /// split and boundary loops, the fans; then everything renumbered by position in
+    /// `order` (sub-leaf by sub-leaf), the numbering of every per-polygon array of a query,
+    /// so that a sub-leaf's triangles, vertex indices and masks lie side by side (the
+    /// pair tests of two sub-leaves then read two short runs, not polygons all over their
+    /// leaves).
+    fn make_layout(&mut self, m: &Mesh, key: (u32, usize, usize), par: bool) {
+        use rayon::prelude::*;
+        let n = m.polygon_count();
+        let leaf_range = |l: usize| m.leaves.polys(l);
+        let triangles = m.vertices_per_polygon() == 3;
+        let tw = m.twins();
+        self.verts.clear();
+        let mut poly_boxes = Vec::with_capacity(n);
+        if par {
+            poly_boxes.par_extend((0..n).into_par_iter().map(|p| m.poly_box(p)));
+            self.verts
+                .par_extend((0..n).into_par_iter().map(|p| vertices(m, p)));
+        } else {
+            poly_boxes.extend((0..n).map(|p| m.poly_box(p)));
+            self.verts.extend((0..n).map(|p| vertices(m, p)));
+        }
+        self.order.clear();
+        self.order.extend(0..n as u32);
+        self.piece_of.clear();
+        self.piece_of.resize(n, 0);
+        let (verts, pb) = (&self.verts[..], &poly_boxes[..]);
+        let mut slices = Vec::with_capacity(m.leaf_count());
+        let (mut rest, mut rest_piece) = (&mut self.order[..], &mut self.piece_of[..]);
+        for l in 0..m.leaf_count() {
+            let r = leaf_range(l);
+            debug_assert_eq!(
+                r.start,
+                n - rest.len(),
+                "leaves cover the polygons in order"
+            );
+            let (this, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
+            let (this_p, tail_p) = std::mem::take(&mut rest_piece).split_at_mut(r.len());
+            slices.push((r.start, this, this_p));
+            rest = tail;
+            rest_piece = tail_p;
+        }
+        let lay = |check: &mut PatchCheck,
+                   (start, items, local): (usize, &mut [u32], &mut [u32])| {
+            leaf_layout(start, items, local, pb, tw, verts, check)
+        };
+        self.layouts = map_checked(slices, par, lay);
+        self.sub_start.clear();
+        self.sub_start.push(0);
+        self.leaf_sub.clear();
+        self.leaf_sub.push(0);
+        for lay in &self.layouts {
+            self.sub_start.extend(&lay.ends);
+            self.leaf_sub.push(self.sub_start.len() as u32 - 1);
+        }
+        self.fans = match tw {
+            Some(tw) if triangles => Fans::new(m.vertex_count(), &self.verts, tw),
+            _ => Fans::default(),
+        };
+        // Renumber by position: `pos_of[p]` is polygon p's position in `order`.
+        let mut pos_of = vec![0u32; n];
+        for (x, &p) in self.order.iter().enumerate() {
+            pos_of[p as usize] = x as u32;
+        }
+        let edge = |e: &mut u32| *e = 3 * pos_of[*e as usize / 3] + *e % 3;
+        for lay in &mut self.layouts {
+            for piece in &mut lay.pieces {
+                let loops = std::iter::once(&mut piece.boundary)
+                    .chain(piece.nodes.iter_mut().map(|(_, l)| l))
+                    .chain(piece.sub_loops.iter_mut());
+                for l in loops.flatten() {
+                    l.edges.iter_mut().for_each(edge);
+                }
+            }
+        }
+        self.fans.renumber(&pos_of);
+        let verts: Vec<[u32; 4]> = self.order.iter().map(|&p| self.verts[p as usize]).collect();
+        self.verts = verts;
+        self.layout_key = Some(key);
+    }
+
     /// The range of `order` of sub-leaf `s`.
     #[inline]
     fn sub(&self, s: usize) -> std::ops::Range<usize> {
         self.sub_start[s] as usize..self.sub_start[s + 1] as usize
     }
 
-    /// Calls `f(p, q, proven)` for the leaf-order polygons `p` of leaf `i` and `q` of leaf
-    /// `j` whose boxes meet once `p`'s is grown by `h` (`p != q`), each unordered pair
+    /// Calls `f(p, q, proven)` for the polygons `p` of leaf `i` and `q` of leaf `j`
+    /// (positions in `order`) whose boxes meet once `p`'s is grown by `h` (`p != q`), each unordered pair
     /// once; `proven`: `proven_subs` of their two sub-leaves said that both lie in a patch
     /// proven free of self-intersection. With `exact` (epsilon 0) the pairs of proven
     /// sub-leaf pairs are not enumerated at all. `masks` and `subs` are scratch.
@@ -691,11 +720,7 @@ impl SelfPrep {
             let cands = &self.boxes[rb.clone()];
             // Within one sub-leaf, candidate `y` against the boxes after it only.
             self.lanes.each_pair_16(self.sub(a), cands, a == b, |x, y| {
-                f(
-                    self.order[x as usize],
-                    self.order[rb.start + y as usize],
-                    proven,
-                );
+                f(x, rb.start as u32 + y, proven);
             });
         }
     }
@@ -855,8 +880,10 @@ pub fn self_pairs(
     st.self_adjacent_tests += s.adjacent.len();
     st.self_narrow_tests += s.apart.len();
     let found = out.len();
+    let order = &prep.order;
     let mut push = |p: u32, q: u32| {
-        let (pa, pb) = (m.poly_ids[p as usize], m.poly_ids[q as usize]);
+        let (p, q) = (order[p as usize] as usize, order[q as usize] as usize);
+        let (pa, pb) = (m.poly_ids[p], m.poly_ids[q]);
         out.push(Pair {
             mesh_a: id,
             polygon_a: pa.min(pb),
@@ -879,8 +906,8 @@ pub fn self_pairs(
             }
         }
         let (mut tp, mut tq) = ([[[0.0; 3]; 3]; 2], [[[0.0; 3]; 3]; 2]);
-        let np = m.triangles(p, &mut tp);
-        let nq = m.triangles(q, &mut tq);
+        let np = m.triangles(prep.order[p] as usize, &mut tp);
+        let nq = m.triangles(prep.order[q] as usize, &mut tq);
         if adjacent_polygons_meet(&vp[..k], &tp, np, &vq[..k], &tq, nq) {
             push(p as u32, q as u32);
         }
@@ -897,6 +924,7 @@ pub fn self_pairs(
     }
     let mut judge = Apart {
         m,
+        order: &prep.order,
         tris: (k == 3).then_some(&prep.tris[..]),
         h,
         prepared: &mut s.prepared,
@@ -929,9 +957,12 @@ pub fn self_pairs(
     st.self_found += out.len() - found;
 }
 
-/// The narrow test of a task's non-adjacent polygon pairs (keys: leaf-order indices).
+/// The narrow test of a task's non-adjacent polygon pairs (keys: positions in the
+/// layout's order).
 struct Apart<'a, F> {
     m: &'a Mesh,
+    /// The mesh's polygon at each position (the keys are positions).
+    order: &'a [u32],
     /// A triangle mesh's triangles, already made for this query (`None` for quads): the
     /// lanes read them there, and only the pairs they leave undecided are prepared (the
     /// preparation's scattered writes over a big mesh cost more than the test).
@@ -956,9 +987,9 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
                 return meet;
             }
         }
-        let m = self.m;
-        let ip = self.prepared.get(p, || prepared(m, p));
-        let iq = self.prepared.get(q, || prepared(m, q));
+        let (m, order) = (self.m, self.order);
+        let ip = self.prepared.get(p, || prepared(m, order[p] as usize));
+        let iq = self.prepared.get(q, || prepared(m, order[q] as usize));
         let (a, b) = (&self.prepared.made[ip], &self.prepared.made[iq]);
         if h == 0.0 {
             return a.meets(b, None);
@@ -985,9 +1016,13 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
             (*a, *b) = (t[p as usize], t[q as usize]);
             return true;
         }
-        let m = self.m;
-        let ip = self.prepared.get(p as usize, || prepared(m, p as usize));
-        let iq = self.prepared.get(q as usize, || prepared(m, q as usize));
+        let (m, order) = (self.m, self.order);
+        let ip = self
+            .prepared
+            .get(p as usize, || prepared(m, order[p as usize] as usize));
+        let iq = self
+            .prepared
+            .get(q as usize, || prepared(m, order[q as usize] as usize));
         self.prepared.made[ip].triangle_pair(&self.prepared.made[iq], a, b)
     }
     #[inline]
