@@ -12,6 +12,9 @@
 //! With `scaling [CSV]`, instead: time per frame against the number of bodies (10 to 5,000
 //! spheres, exact, threads 1 and 2), printed and written as CSV for bench/scaling_plot.py:
 //!   cargo bench --bench scene -- scaling bench-results/scaling.csv
+//! With `self-scaling [CSV]`, instead: one cloth's self-collision against its triangle count
+//! (the rolled cloth at 10k..400k triangles, threads 1 and 2):
+//!   cargo bench --bench scene -- self-scaling bench-results/self_scaling.csv
 //! Environment: `SCENE=substring` keeps the scenes whose name contains it, `EPS=0` or
 //! `EPS=1e-3` one epsilon (relative to the extent), `THREADS=1` one thread count,
 //! `SPHERES=10,100,1000` the body counts of the spheres scene (default 1000), `DUMP=DIR`
@@ -153,7 +156,12 @@ fn spheres_case(n: usize) -> Case {
 /// the ball. The second frame shifts the wave's phase (every vertex moves, as in a
 /// simulation step). Generated, not recorded: the recorded cloth of ../shared is 14k.
 fn rolled_cloth_case() -> Case {
-    let n = 216u32;
+    rolled_cloth(216)
+}
+
+/// [`rolled_cloth_case`] with an `n` x `n` vertex sheet (`2 (n - 1)^2` triangles): the
+/// same scene at another resolution.
+fn rolled_cloth(n: u32) -> Case {
     let (turns, r0, d, len) = (3.0f64, 0.2f64, 0.02f64, 4.0f64);
     let mut tris = Vec::new();
     let at = |i: u32, j: u32| j * n + i;
@@ -384,9 +392,48 @@ fn scaling(frames: usize, csv: Option<&str>) {
     }
 }
 
+/// Time per frame against the triangle count of one cloth folding onto itself: the rolled
+/// cloth at 10k to 400k triangles (the same scene at five resolutions), exact, threads 1
+/// and 2; printed and written as CSV.
+fn self_scaling(frames: usize, csv: Option<&str>) {
+    let mut rows = vec!["triangles,threads,ms_per_frame,query_ms,query_cpu_ms,pairs".to_string()];
+    println!("{frames} frames per row, median; the rolled cloth + ball, self-collision, exact\n");
+    println!("| triangles | threads | ms per frame (update + query) | query ms | query CPU ms | pairs | query ns per triangle | 2-thread speed-up |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for n in [72, 120, 216, 300, 450] {
+        let case = rolled_cloth(n);
+        let tris = case.idx[0].len() / 3;
+        let mut one = 0.0;
+        for threads in [1, 2] {
+            let (t, q, c, pairs, _) = run(&case, 0.0, threads, frames);
+            if threads == 1 {
+                one = q;
+            }
+            let speedup = if threads == 2 {
+                format!("{:.2}x", one / q)
+            } else {
+                String::new()
+            };
+            println!(
+                "| {tris} | {threads} | {t:.2} | {q:.2} | {c:.2} | {pairs} | {:.0} | {speedup} |",
+                q * 1e6 / tris as f64
+            );
+            rows.push(format!("{tris},{threads},{t:.4},{q:.4},{c:.4},{pairs}"));
+        }
+    }
+    if let Some(path) = csv {
+        std::fs::write(path, rows.join("\n") + "\n").expect("writing the CSV");
+        println!("\nwrote {path}");
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let frames: usize = args.iter().find_map(|a| a.parse().ok()).unwrap_or(10);
+    if let Some(i) = args.iter().position(|a| a == "self-scaling") {
+        let csv = args.get(i + 1).filter(|a| a.ends_with(".csv"));
+        return self_scaling(frames, csv.map(String::as_str));
+    }
     if let Some(i) = args.iter().position(|a| a == "scaling") {
         let csv = args.get(i + 1).filter(|a| a.ends_with(".csv"));
         return scaling(frames, csv.map(String::as_str));

@@ -237,19 +237,28 @@ impl Lanes {
         let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
         let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
         let keep = keep as u16;
-        for (c, b) in cands.iter().enumerate() {
-            // Ordered, non-signalling compares: `>=` and `<=` as in Rust; three short
-            // chains (one per axis) rather than one of six.
-            let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
-            let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
-            let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
-            let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
-            let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
-            let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
-            let mut bits = u32::from(x & y & z) & !below(c);
-            while bits != 0 {
-                f(first + bits.trailing_zeros(), c as u32);
-                bits &= bits - 1;
+        // Sixteen candidates' masks first, the calls after: a call inside the compare loop
+        // would make the six bound registers be saved and reloaded around it.
+        let mut masks = [0u16; 16];
+        for (block, cs) in cands.chunks(16).enumerate() {
+            for (m, b) in masks.iter_mut().zip(cs) {
+                // Ordered, non-signalling compares: `>=` and `<=` as in Rust; three short
+                // chains (one per axis) rather than one of six.
+                let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
+                let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
+                let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
+                let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
+                let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
+                let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
+                *m = x & y & z;
+            }
+            for (i, &m) in masks[..cs.len()].iter().enumerate() {
+                let c = 16 * block + i;
+                let mut bits = u32::from(m) & !below(c);
+                while bits != 0 {
+                    f(first + bits.trailing_zeros(), c as u32);
+                    bits &= bits - 1;
+                }
             }
         }
     }
