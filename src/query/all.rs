@@ -20,7 +20,7 @@ use crate::geom::fan::Fans;
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
-use crate::geom::tritri::{in_one_axis_plane, Plane};
+use crate::geom::tritri::{apart_in_projection, in_one_axis_plane, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::Aabb;
 use crate::geom::P3;
@@ -985,6 +985,11 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
             // pair undecided: all their orientations are 0).
             if let Some(meet) = in_one_axis_plane(&t[p], &t[q]) {
                 return meet;
+            }
+            // Apart in a projection (exact): most of the rest of such pairs, coplanar in
+            // a slanted plane, before the exact 3D orientations.
+            if apart_in_projection(&t[p], &t[q]) {
+                return false;
             }
         }
         let (m, order) = (self.m, self.order);
