@@ -28,7 +28,7 @@
 //! Every decision is exact (`orient2d` on the input coordinates, comparisons of
 //! coordinates); nothing is computed in floating point that a decision depends on.
 
-use super::predicates::{drop_axis, orient2d};
+use super::predicates::{drop_axis, orient2d, orient2d_filtered};
 use super::P3;
 
 /// No twin: the edge is on the mesh's border, or its reverse is in no triangle.
@@ -68,17 +68,11 @@ pub fn twins(verts: &[[u32; 3]]) -> Option<Vec<u32>> {
 /// negatively (bit `2 k + 1`) when coordinate `k` is dropped (exact `orient2d`): a
 /// patch's usable projections are the common bits of its triangles.
 ///
-/// The three determinants are first taken in floating point with Shewchuk's error bound
-/// for `orient2d` (`(3 + 16 eps) eps` times the sum of the two products' magnitudes,
-/// rounding of the differences included), all three at once; only a projection whose
-/// sign that bound leaves uncertain (or whose magnitudes are near underflow) asks the
-/// exact predicate.
+/// Each determinant is first taken in floating point under Shewchuk's error bound
+/// ([`orient2d_filtered`]); only a projection whose sign that bound leaves uncertain asks
+/// the exact predicate.
 #[inline]
 pub fn turn_mask(t: &[P3; 3]) -> u8 {
-    const EPS: f64 = f64::EPSILON / 2.0;
-    const BOUND: f64 = (3.0 + 16.0 * EPS) * EPS;
-    // Below this the products may have lost bits to underflow: the exact predicate.
-    const TINY: f64 = 1e-250;
     let mut m = 0;
     for k in 0..3 {
         let (a, b, c) = (
@@ -86,15 +80,7 @@ pub fn turn_mask(t: &[P3; 3]) -> u8 {
             drop_axis(&t[1], k),
             drop_axis(&t[2], k),
         );
-        let left = (a[0] - c[0]) * (b[1] - c[1]);
-        let right = (a[1] - c[1]) * (b[0] - c[0]);
-        let det = left - right;
-        let sum = left.abs() + right.abs();
-        let o = if det.abs() > BOUND * sum && sum > TINY {
-            det
-        } else {
-            orient2d(a, b, c)
-        };
+        let o = orient2d_filtered(a, b, c);
         m |= ((o > 0.0) as u8) << (2 * k) | ((o < 0.0) as u8) << (2 * k + 1);
     }
     m

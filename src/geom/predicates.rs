@@ -81,6 +81,29 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     robust::orient2d(p(a), p(b), p(c))
 }
 
+/// [`orient2d`] with Shewchuk's first-stage error bound inline (`(3 + 16 eps) eps` times
+/// the sum of the two products' magnitudes, the rounding of the differences included):
+/// where the floating-point determinant's sign is certain it is returned as is, elsewhere
+/// (and near underflow or overflow) the exact predicate decides. The same sign as
+/// [`orient2d`] always; only the sign is meant.
+#[inline(always)]
+pub fn orient2d_filtered(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    const EPS: f64 = f64::EPSILON / 2.0;
+    const BOUND: f64 = (3.0 + 16.0 * EPS) * EPS;
+    // Below this the products may have lost bits to underflow.
+    const TINY: f64 = 1e-250;
+    let left = (a[0] - c[0]) * (b[1] - c[1]);
+    let right = (a[1] - c[1]) * (b[0] - c[0]);
+    let det = left - right;
+    let sum = left.abs() + right.abs();
+    // (NaN or infinite products fail the comparison: the exact predicate.)
+    if det.abs() > BOUND * sum && sum > TINY {
+        det
+    } else {
+        orient2d(a, b, c)
+    }
+}
+
 /// Projection of a 3D point onto the coordinate plane that drops `axis`.
 #[inline]
 pub fn drop_axis(p: &P3, axis: usize) -> [f64; 2] {

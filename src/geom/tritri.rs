@@ -6,7 +6,7 @@
 //! (a segment or a point) is the union of its edges, so the same rule covers it. Every
 //! decision below is the sign of an exact `orient3d` / `orient2d`: no epsilon, no NaN.
 
-use super::predicates::{collinear, drop_axis, orient2d, orient3d, P3};
+use super::predicates::{collinear, drop_axis, orient2d, orient2d_filtered, orient3d, P3};
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod four;
@@ -116,7 +116,7 @@ fn meet_in_3d(t: &[P3; 3], u: &[P3; 3], ut: [i8; 3], tu: [i8; 3]) -> bool {
 /// The axis `k` along which all six vertices have exactly the same coordinate, if any: the
 /// two triangles then lie in the plane `x_k = c`.
 #[inline]
-fn shared_axis_plane(t: &[P3; 3], u: &[P3; 3]) -> Option<usize> {
+pub fn shared_axis_plane(t: &[P3; 3], u: &[P3; 3]) -> Option<usize> {
     (0..3).find(|&k| {
         let c = t[0][k];
         t[1][k] == c && t[2][k] == c && u[0][k] == c && u[1][k] == c && u[2][k] == c
@@ -141,8 +141,8 @@ fn coplanar_2d(t: &[P3; 3], u: &[P3; 3], ax: usize) -> Option<bool> {
         drop_axis(&u[1], ax),
         drop_axis(&u[2], ax),
     ];
-    let ot = orient2d(t2[0], t2[1], t2[2]);
-    let ou = orient2d(u2[0], u2[1], u2[2]);
+    let ot = orient2d_filtered(t2[0], t2[1], t2[2]);
+    let ou = orient2d_filtered(u2[0], u2[1], u2[2]);
     if ot == 0.0 || ou == 0.0 {
         return None;
     }
@@ -150,7 +150,12 @@ fn coplanar_2d(t: &[P3; 3], u: &[P3; 3], ax: usize) -> Option<bool> {
     let separates = |a: &[[f64; 2]; 3], o: f64, b: &[[f64; 2]; 3]| {
         (0..3).any(|i| {
             let (p, q) = (a[i], a[(i + 1) % 3]);
-            b.iter().all(|&x| orient2d(p, q, x) * o < 0.0)
+            // Opposite strict signs (compared, not multiplied: a product of two tiny
+            // determinants could underflow to 0).
+            b.iter().all(|&x| {
+                let v = orient2d_filtered(p, q, x);
+                (v > 0.0 && o < 0.0) || (v < 0.0 && o > 0.0)
+            })
         })
     };
     Some(!separates(&t2, ot, &u2) && !separates(&u2, ou, &t2))

@@ -20,7 +20,7 @@ use crate::geom::fan::Fans;
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
-use crate::geom::tritri::{apart_in_projection, in_one_axis_plane, Plane};
+use crate::geom::tritri::{apart_in_projection, in_one_axis_plane, shared_axis_plane, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::Aabb;
 use crate::geom::P3;
@@ -1018,7 +1018,14 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
     #[inline]
     fn triangles(&mut self, (p, q): (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
         if let Some(t) = self.tris {
-            (*a, *b) = (t[p as usize], t[q as usize]);
+            let (tp, tq) = (&t[p as usize], &t[q as usize]);
+            // Both in one coordinate plane (a flat sheet, a box, a floor): every
+            // orientation in the lanes would be 0, so straight to the scalar test's 2D
+            // decision.
+            if self.h == 0.0 && shared_axis_plane(tp, tq).is_some() {
+                return false;
+            }
+            (*a, *b) = (*tp, *tq);
             return true;
         }
         let (m, order) = (self.m, self.order);
