@@ -1,6 +1,7 @@
 // selfcheck: glcol_query_all's self-collision pairs against CGAL's
 // Polygon_mesh_processing::self_intersections (Epeck kernel), equal sets at epsilon 0, on
-// real simulation frames and adversarial folds. Uses only glcollide's C header.
+// real simulation frames, the crumpled 92k cloth of bench/data and adversarial folds. Uses
+// only glcollide's C header.
 //
 //   cargo build --release && make -C examples-c/selfcheck && examples-c/selfcheck/build/selfcheck
 //   selfcheck [--meshes DIR] [--inject] [--only NAME] [--time] [--obj FILE]...
@@ -607,6 +608,32 @@ int main(int argc, char **argv) {
             if (!load(path, m)) return 2;
             cases.push_back(std::move(m));
         }
+    }
+    // The 92k-triangle cloth crumpled over a ball (bench/data/crumpled-cloth, in the
+    // repository: raw little-endian float positions of a 216 x 216 vertex grid, its README
+    // gives the triangulation): 78,000 intersecting pairs, the heavy self-contact workload
+    // of the benchmarks. Read relative to the current directory (the repository's root,
+    // where the test script runs); skipped when absent.
+    for (int f = 0; f < 2 && objs.empty(); f++) {
+        Mesh m;
+        m.name = "crumpled cloth frame" + std::to_string(f);
+        if (!only.empty() && m.name.find(only) == std::string::npos) continue;
+        std::FILE *in = std::fopen(("bench/data/crumpled-cloth/frame" + std::to_string(f) + ".f32").c_str(), "rb");
+        if (!in) continue;
+        const uint32_t n = 216;
+        m.xyz.resize(3 * n * n);
+        size_t got = std::fread(m.xyz.data(), sizeof(float), m.xyz.size(), in);
+        std::fclose(in);
+        if (got != m.xyz.size()) {
+            std::fprintf(stderr, "%s: short read (%zu of %zu floats)\n", m.name.c_str(), got, m.xyz.size());
+            return 2;
+        }
+        for (uint32_t j = 0; j + 1 < n; j++)
+            for (uint32_t i = 0; i + 1 < n; i++) {
+                uint32_t v = j * n + i;
+                m.tri.insert(m.tri.end(), {v, v + 1, v + n + 1, v, v + n + 1, v + n});
+            }
+        cases.push_back(std::move(m));
     }
     // A real cloth tangled: every vertex of the cloth of frame 227 moved by a pseudo-random
     // step of up to 0.6 of its mean edge length (folds, pushed-through vertices, crossings
