@@ -166,92 +166,10 @@ impl Lanes {
         // With `upper`, candidate `c` drops the lanes up to and including its own.
         let below = |c: usize| if upper { (2u32 << c) - 1 } else { 0 };
         let first = range.start as u32;
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU supports AVX-512F, checked just above; the range plus
-            // padding holds 16 boxes.
-            unsafe { self.pairs_16_avx512(range.start, cands, keep, below, first, &mut f) };
-            return;
-        }
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above; the range plus padding
-            // holds 16 boxes.
-            unsafe { self.pairs_16_avx2(range.start, cands, keep, below, first, &mut f) };
-            return;
-        }
-        self.pairs_16_plain(range.start, cands, keep, below, first, &mut f);
-    }
-
-    /// [`Lanes::each_pair_16`] one box at a time (no AVX2).
-    fn pairs_16_plain(
-        &self,
-        start: usize,
-        cands: &[Aabb],
-        keep: u32,
-        below: impl Fn(usize) -> u32,
-        first: u32,
-        f: &mut impl FnMut(u32, u32),
-    ) {
-        let run = self.run(start..start + 2 * LANES);
-        for (c, b) in cands.iter().enumerate() {
-            let mut bits = 0u32;
-            #[allow(clippy::needless_range_loop)]
-            for i in 0..2 * LANES {
-                let meets = (run[3][i] >= b.min[0])
-                    & (run[0][i] <= b.max[0])
-                    & (run[4][i] >= b.min[1])
-                    & (run[1][i] <= b.max[1])
-                    & (run[5][i] >= b.min[2])
-                    & (run[2][i] <= b.max[2]);
-                bits |= u32::from(meets) << i;
-            }
-            bits &= keep & !below(c);
-            while bits != 0 {
-                f(first + bits.trailing_zeros(), c as u32);
-                bits &= bits - 1;
-            }
-        }
-    }
-
-    /// [`Lanes::each_pair_16`] in AVX-512: the 16 boxes from `start` (padding included)
-    /// in one register per bound, each candidate's six compares chained through a mask
-    /// register (each compare only where the previous ones held).
-    ///
-    /// # Safety
-    /// The CPU must support AVX-512F; `start + 16` boxes (with padding) must be stored.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn pairs_16_avx512(
-        &self,
-        start: usize,
-        cands: &[Aabb],
-        keep: u32,
-        below: impl Fn(usize) -> u32,
-        first: u32,
-        f: &mut impl FnMut(u32, u32),
-    ) {
-        use std::arch::x86_64::*;
-        let run = self.run(start..start + 2 * LANES);
-        // SAFETY: each slice holds sixteen floats; the loads need no alignment.
-        let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
-        let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
-        let keep = keep as u16;
         // Sixteen candidates' masks first, the calls after: a call inside the compare loop
-        // would make the six bound registers be saved and reloaded around it.
-        let mut masks = [0u16; 16];
+        // would make the bound registers be saved and reloaded around it.
         for (block, cs) in cands.chunks(16).enumerate() {
-            for (m, b) in masks.iter_mut().zip(cs) {
-                // Ordered, non-signalling compares: `>=` and `<=` as in Rust; three short
-                // chains (one per axis) rather than one of six.
-                let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
-                let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
-                let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
-                let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
-                let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
-                let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
-                *m = x & y & z;
-            }
+            let masks = self.masks_16(range.start, cs, keep);
             for (i, &m) in masks[..cs.len()].iter().enumerate() {
                 let c = 16 * block + i;
                 let mut bits = u32::from(m) & !below(c);
@@ -263,54 +181,24 @@ impl Lanes {
         }
     }
 
-    /// [`Lanes::each_pair_16`] in AVX2: the 16 boxes from `start` (padding included)
-    /// loaded once, each candidate compared with both chunks.
-    ///
-    /// # Safety
-    /// The CPU must support AVX2; `start + 16` boxes (with padding) must be stored.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn pairs_16_avx2(
-        &self,
-        start: usize,
-        cands: &[Aabb],
-        keep: u32,
-        below: impl Fn(usize) -> u32,
-        first: u32,
-        f: &mut impl FnMut(u32, u32),
-    ) {
-        use std::arch::x86_64::*;
+    /// For each of `cands` (at most 16), the boxes of the 16 from `start` (padding
+    /// included) that meet it, as bits, within `keep`: in AVX-512 or AVX2 where the CPU has
+    /// it, else one box at a time.
+    #[inline]
+    fn masks_16(&self, start: usize, cands: &[Aabb], keep: u32) -> [u16; 16] {
+        debug_assert!(cands.len() <= 16);
         let run = self.run(start..start + 2 * LANES);
-        // SAFETY: each slice holds sixteen floats; the loads need no alignment.
-        let ld = |k: usize, h: usize| unsafe { _mm256_loadu_ps(run[k][h * LANES..].as_ptr()) };
-        let lo = [0, 1].map(|h| [ld(0, h), ld(1, h), ld(2, h)]);
-        let hi = [0, 1].map(|h| [ld(3, h), ld(4, h), ld(5, h)]);
-        for (c, b) in cands.iter().enumerate() {
-            let min = b.min.map(|x| _mm256_set1_ps(x));
-            let max = b.max.map(|x| _mm256_set1_ps(x));
-            let half = |h: usize| {
-                // Ordered, non-signalling compares: `>=` and `<=` as in Rust.
-                let (l, u) = (&lo[h], &hi[h]);
-                let x = _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(u[0], min[0]),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(l[0], max[0]),
-                );
-                let y = _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(u[1], min[1]),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(l[1], max[1]),
-                );
-                let z = _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(u[2], min[2]),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(l[2], max[2]),
-                );
-                _mm256_movemask_ps(_mm256_and_ps(x, _mm256_and_ps(y, z))) as u32
-            };
-            let mut bits = (half(0) | half(1) << LANES) & keep & !below(c);
-            while bits != 0 {
-                f(first + bits.trailing_zeros(), c as u32);
-                bits &= bits - 1;
-            }
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU supports AVX-512F, checked just above.
+            return unsafe { masks_16_avx512(&run, cands, keep) };
         }
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { masks_16_avx2(&run, cands, keep) };
+        }
+        masks_16_plain(&run, cands, keep)
     }
 
     /// [`Lanes::each_pair`] for `cands.len() * chunks < 2^24`, candidates numbered from
@@ -372,6 +260,17 @@ impl Lanes {
     }
 }
 
+/// Box `i` of `run` (bounds lo xyz, hi xyz) meets `b` (closed boxes).
+#[inline(always)]
+fn meets(run: &[&[f32]; 6], i: usize, b: &Aabb) -> bool {
+    (run[3][i] >= b.min[0])
+        & (run[0][i] <= b.max[0])
+        & (run[4][i] >= b.min[1])
+        & (run[1][i] <= b.max[1])
+        & (run[5][i] >= b.min[2])
+        & (run[2][i] <= b.max[2])
+}
+
 /// Box tests of every candidate `c` against every chunk `j` of [`LANES`] boxes of `run`
 /// (bounds lo xyz, hi xyz, of one length, a multiple of [`LANES`]), in that order: for each
 /// chunk where boxes meet, `masks` gets `(c * chunks + j) << 8 | bits` (bit `l` for box
@@ -384,14 +283,7 @@ fn masks_plain(run: &[&[f32]; 6], cands: &[Aabb], masks: &mut [u32]) -> usize {
         for j in 0..chunks {
             let mut bits = 0;
             for l in 0..LANES {
-                let i = j * LANES + l;
-                let meets = (run[3][i] >= b.min[0])
-                    & (run[0][i] <= b.max[0])
-                    & (run[4][i] >= b.min[1])
-                    & (run[1][i] <= b.max[1])
-                    & (run[5][i] >= b.min[2])
-                    & (run[2][i] <= b.max[2]);
-                bits |= u32::from(meets) << l;
+                bits |= u32::from(meets(run, j * LANES + l, b)) << l;
             }
             if bits != 0 {
                 masks[found] = ((c * chunks + j) as u32) << 8 | bits;
@@ -402,6 +294,29 @@ fn masks_plain(run: &[&[f32]; 6], cands: &[Aabb], masks: &mut [u32]) -> usize {
     found
 }
 
+/// Eight boxes (bounds loaded: lo xyz, hi xyz) against one (broadcast: min xyz, max xyz):
+/// the bits of those that meet it (closed boxes). (A safe function with a target feature:
+/// callable from the AVX2 kernels below, which have it.)
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn meet8(
+    lo: &[std::arch::x86_64::__m256; 3],
+    hi: &[std::arch::x86_64::__m256; 3],
+    min: &[std::arch::x86_64::__m256; 3],
+    max: &[std::arch::x86_64::__m256; 3],
+) -> u32 {
+    use std::arch::x86_64::*;
+    // Ordered, non-signalling compares: `>=` and `<=` as in Rust.
+    let axis = |k: usize| {
+        _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GE_OQ>(hi[k], min[k]),
+            _mm256_cmp_ps::<_CMP_LE_OQ>(lo[k], max[k]),
+        )
+    };
+    _mm256_movemask_ps(_mm256_and_ps(axis(0), _mm256_and_ps(axis(1), axis(2)))) as u32
+}
+
 /// [`masks_plain`], eight boxes per AVX2 compare.
 ///
 /// # Safety
@@ -410,35 +325,20 @@ fn masks_plain(run: &[&[f32]; 6], cands: &[Aabb], masks: &mut [u32]) -> usize {
 #[target_feature(enable = "avx2")]
 unsafe fn masks_avx2(run: &[&[f32]; 6], cands: &[Aabb], masks: &mut [u32]) -> usize {
     use std::arch::x86_64::*;
-    let lanes = |k: usize| run[k].chunks_exact(LANES);
+    let chunks = run[0].len() / LANES;
+    // SAFETY: each chunk holds eight floats; the loads need no alignment.
+    let ld = |k: usize, j: usize| unsafe { _mm256_loadu_ps(run[k][j * LANES..].as_ptr()) };
     let mut found = 0;
     let mut at = 0u32;
     for b in cands {
         let min = b.min.map(|x| _mm256_set1_ps(x));
         let max = b.max.map(|x| _mm256_set1_ps(x));
-        let bounds = lanes(0)
-            .zip(lanes(1))
-            .zip(lanes(2))
-            .zip(lanes(3).zip(lanes(4)).zip(lanes(5)));
-        for (((lx, ly), lz), ((hx, hy), hz)) in bounds {
-            // SAFETY: each slice holds eight floats; the loads need no alignment.
-            let ld = |s: &[f32]| unsafe { _mm256_loadu_ps(s.as_ptr()) };
-            // Ordered, non-signalling compares: `>=` and `<=` as in Rust.
-            let (x, y, z) = (
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(ld(hx), min[0]),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(ld(lx), max[0]),
-                ),
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(ld(hy), min[1]),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(ld(ly), max[1]),
-                ),
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(ld(hz), min[2]),
-                    _mm256_cmp_ps::<_CMP_LE_OQ>(ld(lz), max[2]),
-                ),
+        for j in 0..chunks {
+            let (lo, hi) = (
+                [ld(0, j), ld(1, j), ld(2, j)],
+                [ld(3, j), ld(4, j), ld(5, j)],
             );
-            let bits = _mm256_movemask_ps(_mm256_and_ps(x, _mm256_and_ps(y, z))) as u32;
+            let bits = meet8(&lo, &hi, &min, &max);
             if bits != 0 {
                 masks[found] = at << 8 | bits;
                 found += 1;
@@ -447,6 +347,70 @@ unsafe fn masks_avx2(run: &[&[f32]; 6], cands: &[Aabb], masks: &mut [u32]) -> us
         }
     }
     found
+}
+
+/// [`Lanes::masks_16`] one box at a time (no AVX2): `run` holds sixteen boxes.
+fn masks_16_plain(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16; 16] {
+    let mut masks = [0u16; 16];
+    for (m, b) in masks.iter_mut().zip(cands) {
+        let mut bits = 0u32;
+        for i in 0..2 * LANES {
+            bits |= u32::from(meets(run, i, b)) << i;
+        }
+        *m = (bits & keep) as u16;
+    }
+    masks
+}
+
+/// [`Lanes::masks_16`] in AVX2: the sixteen boxes loaded once (two chunks), each
+/// candidate compared with both.
+///
+/// # Safety
+/// The CPU must support AVX2; `run` holds sixteen boxes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn masks_16_avx2(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16; 16] {
+    use std::arch::x86_64::*;
+    // SAFETY: each slice holds sixteen floats; the loads need no alignment.
+    let ld = |k: usize, h: usize| unsafe { _mm256_loadu_ps(run[k][h * LANES..].as_ptr()) };
+    let lo = [0, 1].map(|h| [ld(0, h), ld(1, h), ld(2, h)]);
+    let hi = [0, 1].map(|h| [ld(3, h), ld(4, h), ld(5, h)]);
+    let mut masks = [0u16; 16];
+    for (m, b) in masks.iter_mut().zip(cands) {
+        let min = b.min.map(|x| _mm256_set1_ps(x));
+        let max = b.max.map(|x| _mm256_set1_ps(x));
+        let bits = meet8(&lo[0], &hi[0], &min, &max) | meet8(&lo[1], &hi[1], &min, &max) << LANES;
+        *m = (bits & keep) as u16;
+    }
+    masks
+}
+
+/// [`Lanes::masks_16`] in AVX-512: the sixteen boxes in one register per bound, each
+/// candidate's compares chained through mask registers (one short chain per axis, each
+/// compare only where the previous one held).
+///
+/// # Safety
+/// The CPU must support AVX-512F; `run` holds sixteen boxes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn masks_16_avx512(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16; 16] {
+    use std::arch::x86_64::*;
+    // SAFETY: each slice holds sixteen floats; the loads need no alignment.
+    let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
+    let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
+    let keep = keep as u16;
+    let mut masks = [0u16; 16];
+    for (m, b) in masks.iter_mut().zip(cands) {
+        // Ordered, non-signalling compares: `>=` and `<=` as in Rust.
+        let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
+        let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
+        let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
+        let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
+        let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
+        let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
+        *m = x & y & z;
+    }
+    masks
 }
 
 #[cfg(test)]
@@ -547,27 +511,32 @@ mod tests {
             });
             dense.each_pair_16(range.clone(), own, true, |i, c| got.push((c, i)));
             assert_eq!(got, want, "{range:?} with itself");
-            // The portable path too (the test machine may have AVX2).
+            // Each kernel's masks give those pairs: the portable one and AVX2 too (the test
+            // machine may prefer AVX-512).
             if !range.is_empty() {
                 let keep = (1u32 << range.len()) - 1;
-                let mut plain = Vec::new();
-                let below = |c: usize| (2u32 << c) - 1;
-                let at = range.start as u32;
-                dense.pairs_16_plain(range.start, own, keep, below, at, &mut |i, c| {
-                    plain.push((c, i))
-                });
-                assert_eq!(plain, want, "{range:?} with itself, portable");
-                // And the AVX2 kernel where the machine has it (AVX-512 is preferred).
+                let run = dense.run(range.start..range.start + 2 * LANES);
+                let pairs = |masks: [u16; 16]| {
+                    let mut out = Vec::new();
+                    for (c, &m) in masks[..own.len()].iter().enumerate() {
+                        for l in 0..16 {
+                            if m >> l & 1 == 1 && l > c {
+                                out.push((c as u32, range.start as u32 + l as u32));
+                            }
+                        }
+                    }
+                    out
+                };
+                assert_eq!(
+                    pairs(masks_16_plain(&run, own, keep)),
+                    want,
+                    "{range:?} with itself, portable"
+                );
                 #[cfg(target_arch = "x86_64")]
                 if std::is_x86_feature_detected!("avx2") {
-                    let mut avx2 = Vec::new();
                     // SAFETY: AVX2 checked just above; the boxes are padded.
-                    unsafe {
-                        dense.pairs_16_avx2(range.start, own, keep, below, at, &mut |i, c| {
-                            avx2.push((c, i))
-                        })
-                    };
-                    assert_eq!(avx2, want, "{range:?} with itself, AVX2");
+                    let masks = unsafe { masks_16_avx2(&run, own, keep) };
+                    assert_eq!(pairs(masks), want, "{range:?} with itself, AVX2");
                 }
             }
             own_pairs += want.len();
