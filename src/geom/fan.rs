@@ -222,6 +222,7 @@ impl Fans {
 mod tests {
     use super::*;
     use crate::geom::adjacent::adjacent_polygons_meet_at;
+    use crate::geom::patch::tests::grid;
     use crate::geom::patch::{turn_mask, twins};
     use crate::geom::test_rng::Rng;
 
@@ -258,25 +259,6 @@ mod tests {
             }
         }
         proven
-    }
-
-    /// An n x n grid over [0, 1]^2 (positions by `f`), `(n + 1)^2` vertices.
-    fn grid(n: u32, f: impl Fn(f64, f64) -> P3) -> (Vec<[u32; 3]>, Vec<P3>) {
-        let mut pos = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                pos.push(f(i as f64 / n as f64, j as f64 / n as f64));
-            }
-        }
-        let at = |i: u32, j: u32| j * (n + 1) + i;
-        let mut verts = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-                verts.extend([[a, b, c], [a, c, d]]);
-            }
-        }
-        (verts, pos)
     }
 
     fn interior(n: u32) -> impl Iterator<Item = usize> {

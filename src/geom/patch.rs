@@ -257,7 +257,7 @@ fn segments_meet(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geom::adjacent::adjacent_polygons_meet_at;
     use crate::geom::tritri::triangles_intersect;
@@ -304,7 +304,9 @@ mod tests {
         c
     }
 
-    fn grid(n: u32, f: impl Fn(f64, f64) -> P3) -> (Vec<[u32; 3]>, Vec<P3>) {
+    /// An n x n grid over [0, 1]^2 (positions by `f`), `(n + 1)^2` vertices, each cell two
+    /// triangles turning the same way (also the fans' tests' sheet).
+    pub(crate) fn grid(n: u32, f: impl Fn(f64, f64) -> P3) -> (Vec<[u32; 3]>, Vec<P3>) {
         let mut pos = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
