@@ -367,6 +367,14 @@ fn ms(n: u64) -> String {
     format!("{:.2}", n as f64 * 1e-6)
 }
 
+/// Writes the CSV `rows` to `csv`, if asked.
+fn write_csv(rows: &[String], csv: Option<&str>) {
+    if let Some(path) = csv {
+        std::fs::write(path, rows.join("\n") + "\n").expect("writing the CSV");
+        println!("\nwrote {path}");
+    }
+}
+
 /// Time per frame against the body count: the broad phase must keep it proportional to the
 /// touching pairs (each sphere touches its 6 neighbours), not to the square of the body count.
 fn scaling(frames: usize, csv: Option<&str>) {
@@ -386,10 +394,7 @@ fn scaling(frames: usize, csv: Option<&str>) {
             rows.push(format!("{n},{tris},{threads},{t:.4},{q:.4},{pairs}"));
         }
     }
-    if let Some(path) = csv {
-        std::fs::write(path, rows.join("\n") + "\n").expect("writing the CSV");
-        println!("\nwrote {path}");
-    }
+    write_csv(&rows, csv);
 }
 
 /// Time per frame against the triangle count of one cloth folding onto itself: the rolled
@@ -421,10 +426,7 @@ fn self_scaling(frames: usize, csv: Option<&str>) {
             rows.push(format!("{tris},{threads},{t:.4},{q:.4},{c:.4},{pairs}"));
         }
     }
-    if let Some(path) = csv {
-        std::fs::write(path, rows.join("\n") + "\n").expect("writing the CSV");
-        println!("\nwrote {path}");
-    }
+    write_csv(&rows, csv);
 }
 
 fn main() {
