@@ -123,6 +123,17 @@ fn in_range(v: f64) -> bool {
     v.abs() <= f64::from(f32::MAX)
 }
 
+/// The `n` entries of an answer at `p` (none for `n == 0`, where `p` may be null).
+fn answer<'a, T>(p: *const T, n: usize) -> &'a [T] {
+    if n == 0 {
+        &[]
+    } else {
+        // SAFETY: after an OK query the library promises `n` entries at `p`, valid until
+        // the next call on the scene; each caller reads them before that.
+        unsafe { std::slice::from_raw_parts(p, n) }
+    }
+}
+
 fn status(s: GlcolStatus, want: GlcolStatus, what: &str) {
     assert_eq!(s, want, "{what}: {}", unsafe {
         std::ffi::CStr::from_ptr(glcol_last_error_message()).to_string_lossy()
@@ -242,11 +253,7 @@ fn check_query_all(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) -> us
         GlcolStatus::Ok,
         "query_all",
     );
-    let got = if n == 0 {
-        Vec::new()
-    } else {
-        unsafe { std::slice::from_raw_parts(p, n) }.to_vec()
-    };
+    let got = answer(p, n).to_vec();
     let key = |q: &GlcolPair| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b);
     assert!(
         got.windows(2).all(|w| key(&w[0]) < key(&w[1])),
@@ -316,23 +323,15 @@ fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
         GlcolStatus::Ok,
         "query_all",
     );
-    let start: Vec<(u32, u32, u32, u32)> = if n == 0 {
-        Vec::new()
-    } else {
-        unsafe { std::slice::from_raw_parts(p, n) }
-            .iter()
-            .map(|q| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b))
-            .collect()
-    };
+    let start: Vec<(u32, u32, u32, u32)> = answer(p, n)
+        .iter()
+        .map(|q| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b))
+        .collect();
     let mut ip: *const GlcolImpact = null();
     let mut m = usize::MAX;
     let s = unsafe { glcol_query_continuous(scene, &mut ip, &mut m) };
     status(s, GlcolStatus::Ok, "query_continuous");
-    let got = if m == 0 {
-        Vec::new()
-    } else {
-        unsafe { std::slice::from_raw_parts(ip, m) }.to_vec()
-    };
+    let got = answer(ip, m).to_vec();
     let key = |q: &GlcolImpact| (q.mesh_a, q.polygon_a, q.mesh_b, q.polygon_b);
     assert!(
         got.windows(2).all(|w| key(&w[0]) < key(&w[1])),
@@ -364,11 +363,7 @@ fn check_continuous(scene: *mut GlcolScene, meshes: &[Model], epsilon: f32) {
         "query_impact_geometry",
     );
     assert_eq!(gn, got.len());
-    let geo = if gn == 0 {
-        &[][..]
-    } else {
-        unsafe { std::slice::from_raw_parts(gp, gn) }
-    };
+    let geo = answer(gp, gn);
     for (q, g) in got.iter().zip(geo) {
         let at_start = q.flags & GLCOL_IMPACT_AT_START != 0;
         assert_eq!(g.kind == GLCOL_FEATURE_NONE, at_start, "{q:?} {g:?}");
@@ -422,7 +417,7 @@ fn check_geometry(scene: *mut GlcolScene, n: usize, epsilon: f32) {
     if n == 0 {
         return;
     }
-    for g in unsafe { std::slice::from_raw_parts(p, n) } {
+    for g in answer(p, n) {
         let all = g.point_a.iter().chain(&g.point_b).chain(&g.normal);
         assert!(
             all.chain([&g.depth]).all(|v| v.is_finite()),

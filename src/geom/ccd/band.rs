@@ -1071,21 +1071,10 @@ mod exact {
     use num_bigint::BigInt;
     use num_traits::Zero;
 
+    use super::super::exact::decompose;
+
     type Int = BigInt;
     type V = [Int; 3];
-
-    /// `x = m 2^e` with an integer `m`.
-    fn decompose(x: f64) -> (i64, i32) {
-        let bits = x.to_bits();
-        let e = ((bits >> 52) & 0x7ff) as i32;
-        let frac = (bits & ((1u64 << 52) - 1)) as i64;
-        let (m, e) = if e == 0 {
-            (frac, -1074)
-        } else {
-            (frac | 1i64 << 52, e - 1075)
-        };
-        (if x < 0.0 { -m } else { m }, e)
-    }
 
     fn sub(a: &V, b: &V) -> V {
         std::array::from_fn(|k| &a[k] - &b[k])

@@ -26,8 +26,8 @@ use num_traits::Zero;
 /// promised `2^-20`).
 const TOI_BITS: u32 = 24;
 
-/// `x = m 2^e` with an integer `m` (0 for 0).
-fn decompose(x: f64) -> (i64, i32) {
+/// `x = m 2^e` with an integer `m` (0 for 0); also the band's exact stage's.
+pub(super) fn decompose(x: f64) -> (i64, i32) {
     let bits = x.to_bits();
     let e = ((bits >> 52) & 0x7ff) as i32;
     let frac = (bits & ((1u64 << 52) - 1)) as i64;

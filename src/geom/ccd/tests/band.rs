@@ -65,6 +65,15 @@ struct Built {
     f: Box<dyn Fn(&Q) -> Q>,
 }
 
+/// The squared distance of a motion that passes at `h` while it falls through z = 0 at
+/// t = 1/2 (z from 2 to -2): `h^2 + z(t)^2`.
+fn falling_by(h: f64) -> Box<dyn Fn(&Q) -> Q> {
+    Box::new(move |t| {
+        let z = lin(2.0, -2.0, t);
+        q(h) * q(h) + &z * &z
+    })
+}
+
 /// A still point.
 fn still(p: P3) -> [P3; 2] {
     [p, p]
@@ -98,10 +107,7 @@ fn built(k: f64) -> Vec<Built> {
         pts: vf([[1.0, y, 2.0], [1.0, y, -2.0]], tri),
         h: h3,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h3) * q(h3) + &z * &z
-        }),
+        f: falling_by(h3),
     });
     // The same, moving along the edge too (the closest direction is not the motion's).
     out.push(Built {
@@ -110,10 +116,7 @@ fn built(k: f64) -> Vec<Built> {
         pts: vf([[0.5, y, 2.0], [2.5, y, -2.0]], tri),
         h: h3,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h3) * q(h3) + &z * &z
-        }),
+        f: falling_by(h3),
     });
     // Beside the corner a: (x, y) = (-3k, -4k), at 5k.
     let h5 = 5.0 * k;
@@ -123,10 +126,7 @@ fn built(k: f64) -> Vec<Built> {
         pts: vf([[-3.0 * k, -4.0 * k, 2.0], [-3.0 * k, -4.0 * k, -2.0]], tri),
         h: h5,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h5) * q(h5) + &z * &z
-        }),
+        f: falling_by(h5),
     });
     // Past the corner on the edge's line, the closest direction turning: (x, z) relative
     // to a is (-(3k + 4 (t - 1/2)), 4k - 3 (t - 1/2)), at 5k at t = 1/2; while x > 0 the
@@ -155,10 +155,7 @@ fn built(k: f64) -> Vec<Built> {
             pts: vf([[1.0, -y, 2.0], [1.0, -y, -2.0]], [tri[0], tri[1], c]),
             h: h3,
             t_c: r(1, 2),
-            f: Box::new(move |t| {
-                let z = lin(2.0, -2.0, t);
-                q(h3) * q(h3) + &z * &z
-            }),
+            f: falling_by(h3),
         });
     }
     out.push(Built {
@@ -170,10 +167,7 @@ fn built(k: f64) -> Vec<Built> {
         ),
         h: h5,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h5) * q(h5) + &z * &z
-        }),
+        f: falling_by(h5),
     });
     // Coplanar: sliding along the edge x = 0 at h (outside), past the corner a first (and
     // past c at the end).
@@ -263,10 +257,7 @@ fn built(k: f64) -> Vec<Built> {
         ),
         h: h3,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h3) * q(h3) + &z * &z
-        }),
+        f: falling_by(h3),
     });
     // b along x too, beyond a's end: end to end.
     out.push(Built {
@@ -279,10 +270,7 @@ fn built(k: f64) -> Vec<Built> {
         ),
         h: h3,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h3) * q(h3) + &z * &z
-        }),
+        f: falling_by(h3),
     });
     // Parallel, at 5k ((0, 3k, 4k) off), sliding in along x.
     out.push(Built {
@@ -346,10 +334,7 @@ fn built(k: f64) -> Vec<Built> {
         ),
         h: h3,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h3) * q(h3) + &z * &z
-        }),
+        f: falling_by(h3),
     });
     let pp = [[3.0 * k, 4.0 * k, 2.0], [3.0 * k, 4.0 * k, -2.0]];
     out.push(Built {
@@ -358,10 +343,7 @@ fn built(k: f64) -> Vec<Built> {
         pts: ee([[0.0; 3]; 2], pp, pp),
         h: h5,
         t_c: r(1, 2),
-        f: Box::new(move |t| {
-            let z = lin(2.0, -2.0, t);
-            q(h5) * q(h5) + &z * &z
-        }),
+        f: falling_by(h5),
     });
     // b through (0, 0, z), z from 2 down to 5k, along e = (0, 4 - t, 3 + t): the lines'
     // distance z e_y / |e| ends at 3k, their common normal turning all along.
