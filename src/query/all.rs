@@ -11,11 +11,9 @@
 //!   polygons that share a vertex index are decided by [`adjacent_polygons_meet`] (they
 //!   count only where they meet beyond what they share, at every epsilon).
 
-use crate::backend::cpu::lanes::Lanes;
+use crate::backend::cpu::lanes::{Lanes, Near16};
 use crate::backend::Pair;
-use crate::geom::adjacent::{
-    adjacent_polygons_meet, shares_vertex, triangles_touch_only_at_joint_planes,
-};
+use crate::geom::adjacent::{adjacent_polygons_meet, triangles_touch_only_at_joint_planes};
 use crate::geom::fan::Fans;
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
@@ -388,6 +386,10 @@ fn leaf_certify(
     out
 }
 
+/// Entries past the last polygon in [`SelfPrep`]'s per-polygon arrays that
+/// [`Lanes::split_16`] reads sixteen at a time.
+const PAD_16: usize = 16;
+
 /// One self-colliding mesh made ready for a query, once, before the tasks: its leaf pairs,
 /// and each leaf cut into sub-leaves of at most [`SUB_LEAF`] polygons (median splits of
 /// the polygons' box centres, as the leaves themselves), with their boxes. A leaf pair's
@@ -413,10 +415,22 @@ pub struct SelfPrep {
     /// pairs are tested eight at a time too).
     sub_boxes: Vec<Aabb>,
     sub_grown: Lanes,
+    /// The sub-leaves holding a vertex index of sub-leaf `s` (itself included), ascending:
+    /// `sub_near[sub_near_start[s]..sub_near_start[s + 1]]` (made with the layout). Two
+    /// sub-leaves not so related have no pair sharing a vertex: all their box pairs go to
+    /// the exact test, listed without a decision per pair ([`Lanes::pairs_16`]).
+    sub_near_start: Vec<u32>,
+    sub_near: Vec<u32>,
     /// Per polygon, numbered by position in `order` (as every per-polygon array here and
     /// the pairs [`SelfPrep::box_pairs`] names): the caller's vertex indices (the first
     /// `k` count), kept with the layout.
     verts: Vec<[u32; 4]>,
+    /// The same, corner by corner (`corners[c][x]`: position `x`'s corner `c`; `u32::MAX`
+    /// past `k`), and the polygons' corner count `k`: what [`Lanes::split_16`] loads
+    /// sixteen at a time. Padded with [`PAD_16`] entries past the last polygon (`u32::MAX`),
+    /// as is `fan_bits` (0).
+    corners: [Vec<u32>; 4],
+    k: usize,
     /// Triangle meshes: per polygon, its corners in `f64` (a plane is made only for the
     /// few neighbour pairs the fans leave to a test).
     tris: Vec<[P3; 3]>,
@@ -522,7 +536,7 @@ impl SelfPrep {
         self.certified_fans = self.fan_ok.iter().filter(|&&x| x).count();
         self.fan_bits.clear();
         if self.fan_ok.is_empty() {
-            self.fan_bits.resize(n, 0);
+            self.fan_bits.resize(n + PAD_16, 0);
         } else {
             let ok = &self.fan_ok;
             let bits = |v: &[u32; 4]| (0..3).fold(0, |b, c| b | (ok[v[c] as usize] as u8) << c);
@@ -531,6 +545,7 @@ impl SelfPrep {
             } else {
                 self.fan_bits.extend(self.verts.iter().map(bits));
             }
+            self.fan_bits.resize(n + PAD_16, 0);
         }
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
         let layouts = &self.layouts;
@@ -670,7 +685,57 @@ impl SelfPrep {
         self.fans.renumber(&pos_of);
         let verts: Vec<[u32; 4]> = self.order.iter().map(|&p| self.verts[p as usize]).collect();
         self.verts = verts;
+        self.k = m.vertices_per_polygon();
+        for (c, at) in self.corners.iter_mut().enumerate() {
+            at.clear();
+            at.extend(
+                self.verts
+                    .iter()
+                    .map(|v| if c < self.k { v[c] } else { u32::MAX }),
+            );
+            at.resize(n + PAD_16, u32::MAX);
+        }
+        self.make_near(self.k);
         self.layout_key = Some(key);
+    }
+
+    /// `sub_near` (the layout's sub-leaves and vertex indices made): each vertex index's
+    /// sub-leaves, then every two of them near each other.
+    fn make_near(&mut self, k: usize) {
+        let subs = self.sub_start.len() - 1;
+        let mut held: Vec<(u32, u32)> = Vec::with_capacity(self.verts.len() * k);
+        for s in 0..subs {
+            for v in &self.verts[self.sub(s)] {
+                held.extend(v[..k].iter().map(|&x| (x, s as u32)));
+            }
+        }
+        held.sort_unstable();
+        held.dedup();
+        let mut near: Vec<(u32, u32)> = Vec::new();
+        for group in held.chunk_by(|x, y| x.0 == y.0) {
+            for &(_, a) in group {
+                near.extend(group.iter().map(|&(_, b)| (a, b)));
+            }
+        }
+        near.sort_unstable();
+        near.dedup();
+        self.sub_near_start.clear();
+        self.sub_near_start.resize(subs + 1, 0);
+        for &(a, _) in &near {
+            self.sub_near_start[a as usize + 1] += 1;
+        }
+        for s in 0..subs {
+            self.sub_near_start[s + 1] += self.sub_near_start[s];
+        }
+        self.sub_near.clear();
+        self.sub_near.extend(near.iter().map(|&(_, b)| b));
+    }
+
+    /// Do sub-leaves `a` and `b` hold a common vertex index?
+    #[inline]
+    fn near(&self, a: usize, b: usize) -> bool {
+        let r = self.sub_near_start[a] as usize..self.sub_near_start[a + 1] as usize;
+        self.sub_near[r].contains(&(b as u32))
     }
 
     /// The range of `order` of sub-leaf `s`.
@@ -679,11 +744,15 @@ impl SelfPrep {
         self.sub_start[s] as usize..self.sub_start[s + 1] as usize
     }
 
-    /// Calls `f(p, q, proven)` for the polygons `p` of leaf `i` and `q` of leaf `j`
-    /// (positions in `order`) whose boxes meet once `p`'s is grown by `h` (`p != q`), each unordered pair
-    /// once; `proven`: `proven_subs` of their two sub-leaves said that both lie in a patch
-    /// proven free of self-intersection. With `exact` (epsilon 0) the pairs of proven
-    /// sub-leaf pairs are not enumerated at all. `masks` and `subs` are scratch.
+    /// The polygons `p` of leaf `i` and `q` of leaf `j` (positions in `order`) whose boxes
+    /// meet once `p`'s is grown by `h` (`p != q`), each unordered pair once, as `[p, q]`:
+    /// those sharing no vertex index appended to `apart`; those sharing one, unless
+    /// `proven_subs` of their two sub-leaves says that both lie in a patch proven free of
+    /// self-intersection, counted (the result) where a shared corner of `p` has a proven
+    /// fan, else appended to `adjacent`. Two sub-leaves sharing no vertex index list their
+    /// pairs without looking at vertices ([`Lanes::pairs_16`]), the others split them
+    /// ([`Lanes::split_16`]). With `exact` (epsilon 0) the pairs of proven sub-leaf pairs
+    /// are not enumerated at all. `masks` and `subs` are scratch.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn box_pairs(
@@ -694,8 +763,9 @@ impl SelfPrep {
         masks: &mut Vec<u32>,
         subs: &mut Vec<(u32, u32)>,
         mut proven_subs: impl FnMut(usize, usize) -> bool,
-        mut f: impl FnMut(u32, u32, bool),
-    ) {
+        apart: &mut Vec<[u32; 2]>,
+        adjacent: &mut Vec<[u32; 2]>,
+    ) -> usize {
         let (si, sj) = (
             self.leaf_sub[i] as usize..self.leaf_sub[i + 1] as usize,
             self.leaf_sub[j] as usize..self.leaf_sub[j + 1] as usize,
@@ -710,6 +780,7 @@ impl SelfPrep {
                     subs.push((a, b));
                 }
             });
+        let mut fans = 0;
         for &(a, b) in subs.iter() {
             let (a, b) = (a as usize, b as usize);
             let proven = proven_subs(a, b);
@@ -718,11 +789,37 @@ impl SelfPrep {
             }
             let rb = self.sub(b);
             let cands = &self.boxes[rb.clone()];
+            if !self.near(a, b) {
+                self.lanes
+                    .pairs_16(self.sub(a), cands, rb.start as u32, a == b, apart);
+                continue;
+            }
+            let at = self.sub_start[a] as usize..;
+            let c = &self.corners;
+            let near = Near16 {
+                k: self.k,
+                corners: [
+                    &c[0][at.clone()],
+                    &c[1][at.clone()],
+                    &c[2][at.clone()],
+                    &c[3][at.clone()],
+                ],
+                fans: &self.fan_bits[at],
+                cand: &self.verts[rb.clone()],
+                proven,
+            };
             // Within one sub-leaf, candidate `y` against the boxes after it only.
-            self.lanes.each_pair_16(self.sub(a), cands, a == b, |x, y| {
-                f(x, rb.start as u32 + y, proven);
-            });
+            fans += self.lanes.split_16(
+                self.sub(a),
+                cands,
+                rb.start as u32,
+                a == b,
+                &near,
+                apart,
+                adjacent,
+            );
         }
+        fans
     }
 }
 
@@ -730,8 +827,8 @@ impl SelfPrep {
 #[derive(Default)]
 pub struct SelfScratch {
     /// Box-meeting polygon pairs (leaf order) of a task: sharing a vertex, and not.
-    adjacent: Vec<(u32, u32)>,
-    apart: Vec<(u32, u32)>,
+    adjacent: Vec<[u32; 2]>,
+    apart: Vec<[u32; 2]>,
     masks: Vec<u32>,
     /// Sub-leaf pairs of the leaf pair at hand whose boxes meet.
     subs: Vec<(u32, u32)>,
@@ -839,7 +936,6 @@ pub fn self_pairs(
     s.adjacent.clear();
     s.apart.clear();
     let k = m.vertices_per_polygon();
-    let (adjacent, apart) = (&mut s.adjacent, &mut s.apart);
     let exact = h == 0.0;
     let mut fans = 0;
     for &(i, j) in leaf_pairs {
@@ -849,29 +945,17 @@ pub fn self_pairs(
             let (pa, pb) = (prep.sub_patch[a], prep.sub_patch[b]);
             pa == pb && (prep.patch_cert[pa as usize] != 0 || (a == b && prep.sub_cert[a]))
         };
-        prep.box_pairs(
+        // Proven patches meet only where they share, and so do two triangles around a
+        // vertex whose fan is proven: such neighbours need no decision.
+        fans += prep.box_pairs(
             i as usize,
             j as usize,
             exact,
             &mut s.masks,
             &mut s.subs,
             proven_subs,
-            |p, q, proven| {
-                let (vp, vq) = (&prep.verts[p as usize], &prep.verts[q as usize]);
-                if shares_vertex(&vp[..k], &vq[..k]) {
-                    // Proven patches meet only where they share, and so do two triangles
-                    // around a vertex whose fan is proven: nothing to decide.
-                    if !proven {
-                        if shared_corners(vp, vq) & prep.fan_bits[p as usize] != 0 {
-                            fans += 1;
-                        } else {
-                            adjacent.push((p, q));
-                        }
-                    }
-                } else {
-                    apart.push((p, q));
-                }
-            },
+            &mut s.apart,
+            &mut s.adjacent,
         );
     }
     st.self_box_nanos += nanos_since(t);
@@ -893,7 +977,7 @@ pub fn self_pairs(
     };
     let t = Instant::now();
     let mut quick = 0;
-    for &(p, q) in &s.adjacent {
+    for &[p, q] in &s.adjacent {
         let (p, q) = (p as usize, q as usize);
         let (vp, vq) = (&prep.verts[p], &prep.verts[q]);
         if k == 3 {
@@ -942,13 +1026,14 @@ pub fn self_pairs(
         if let Some(mut fours) = Fours::<(u32, u32)>::new(kernel) {
             // Four pairs at a time where floating point certifies the answer, the others
             // (and quads) by the scalar test: the same answer as the loop below.
-            fours.decide(s.apart.iter().copied(), &mut judge);
+            fours.decide(s.apart.iter().map(|&[p, q]| (p, q)), &mut judge);
             st.self_narrow_nanos += nanos_since(t);
             st.self_found += out.len() - found;
             return;
         }
     }
-    for &key in &s.apart {
+    for &[p, q] in &s.apart {
+        let key = (p, q);
         if judge.scalar(key) {
             (judge.push)(key.0, key.1);
         }
@@ -1096,19 +1181,6 @@ impl<T> Slots<T> {
         self.at[p] = (self.stamp, i as u32);
         i
     }
-}
-
-/// The corners `c` of triangle `a` that triangle `b` also holds (vertex indices; a
-/// fourth entry is not a triangle's: fans are proven for triangle meshes only), as bits
-/// `1 << c`; without branches (see [`shares_vertex`]).
-#[inline(always)]
-fn shared_corners(a: &[u32; 4], b: &[u32; 4]) -> u8 {
-    let mut bits = 0;
-    for (c, x) in a[..3].iter().enumerate() {
-        let hit = (*x == b[0]) | (*x == b[1]) | (*x == b[2]);
-        bits |= (hit as u8) << c;
-    }
-    bits
 }
 
 /// The caller's vertex indices of leaf-ordered polygon `p` (the first `k` count).

@@ -20,6 +20,20 @@ pub(crate) struct Lanes {
     hi: [Vec<f32>; 3],
 }
 
+/// What [`Lanes::split_16`] needs to split a sub-leaf pair's box pairs by shared vertices:
+/// per polygon of the range (sixteen entries from its start, padding included), its
+/// vertex indices corner by corner (`corners[c]`, the first `k` used) and its proven fans
+/// (bit `c`: corner `c`'s); per candidate, its vertex indices (the first `k`).
+pub(crate) struct Near16<'a> {
+    pub k: usize,
+    pub corners: [&'a [u32]; 4],
+    pub fans: &'a [u8],
+    pub cand: &'a [[u32; 4]],
+    /// The two sub-leaves lie in a patch proven free of self-intersection: pairs sharing a
+    /// vertex are dropped uncounted.
+    pub proven: bool,
+}
+
 impl Lanes {
     /// Number of boxes (padding not counted).
     #[inline]
@@ -179,6 +193,117 @@ impl Lanes {
                 }
             }
         }
+    }
+
+    /// [`Lanes::each_pair_16`]'s pairs appended to `out` as `[first + i, c0 + c]`, in the
+    /// same order. Where the CPU has AVX-512F, without a call or a branch per pair: each
+    /// candidate's sixteen answers are compressed into pairs in registers and stored
+    /// whole (the stores past the new end land in capacity reserved first). The pairs of
+    /// two sub-leaves that share no vertex all go to one list (the exact test), so no
+    /// per-pair decision is left for a call to make.
+    #[inline]
+    pub fn pairs_16(
+        &self,
+        range: std::ops::Range<usize>,
+        cands: &[Aabb],
+        c0: u32,
+        upper: bool,
+        out: &mut Vec<[u32; 2]>,
+    ) {
+        assert!(range.end <= self.len() && range.len() <= 2 * LANES);
+        assert!(!upper || cands.len() == range.len());
+        if range.is_empty() {
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
+            let keep = (1u32 << range.len()) - 1;
+            let run = self.run(range.start..range.start + 2 * LANES);
+            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds sixteen
+            // boxes (the padding included).
+            return unsafe {
+                pairs_16_avx512(&run, cands, keep, upper, range.start as u32, c0, out)
+            };
+        }
+        self.each_pair_16(range, cands, upper, |i, c| out.push([i, c0 + c]));
+    }
+
+    /// [`Lanes::pairs_16`] for two sub-leaves that may share vertices, the pairs split as
+    /// [`Near16`] says: those sharing no vertex index appended to `apart`; those sharing
+    /// one, unless `near.proven`, counted (the result) where a shared corner of the
+    /// range's polygon has a proven fan, else appended to `adjacent`. In AVX-512 where the
+    /// CPU has it (the vertex indices of sixteen polygons compared in one register), else
+    /// pair by pair: the same lists in the same order.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn split_16(
+        &self,
+        range: std::ops::Range<usize>,
+        cands: &[Aabb],
+        c0: u32,
+        upper: bool,
+        near: &Near16<'_>,
+        apart: &mut Vec<[u32; 2]>,
+        adjacent: &mut Vec<[u32; 2]>,
+    ) -> usize {
+        assert!(range.end <= self.len() && range.len() <= 2 * LANES);
+        assert!(!upper || cands.len() == range.len());
+        assert!(near.cand.len() == cands.len() && (near.k == 3 || near.k == 4));
+        assert!(
+            near.fans.len() >= 2 * LANES
+                && near.corners[..near.k].iter().all(|c| c.len() >= 2 * LANES)
+        );
+        if range.is_empty() {
+            return 0;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
+            let keep = (1u32 << range.len()) - 1;
+            let run = self.run(range.start..range.start + 2 * LANES);
+            let first = range.start as u32;
+            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds
+            // sixteen boxes, `near` sixteen polygons' corners and fans (asserted above).
+            return unsafe {
+                if near.k == 3 {
+                    split_16_avx512::<3>(&run, cands, keep, upper, first, c0, near, apart, adjacent)
+                } else {
+                    split_16_avx512::<4>(&run, cands, keep, upper, first, c0, near, apart, adjacent)
+                }
+            };
+        }
+        self.split_16_plain(range, cands, c0, upper, near, apart, adjacent)
+    }
+
+    /// [`Lanes::split_16`] pair by pair (any CPU).
+    #[allow(clippy::too_many_arguments)]
+    fn split_16_plain(
+        &self,
+        range: std::ops::Range<usize>,
+        cands: &[Aabb],
+        c0: u32,
+        upper: bool,
+        near: &Near16<'_>,
+        apart: &mut Vec<[u32; 2]>,
+        adjacent: &mut Vec<[u32; 2]>,
+    ) -> usize {
+        let (first, k, mut fans) = (range.start as u32, near.k, 0);
+        self.each_pair_16(range, cands, upper, |i, c| {
+            let (lane, v) = ((i - first) as usize, &near.cand[c as usize]);
+            let mut shared = 0u8;
+            for (corner, at) in near.corners[..k].iter().enumerate() {
+                shared |= u8::from(v[..k].contains(&at[lane])) << corner;
+            }
+            if shared == 0 {
+                apart.push([i, c0 + c]);
+            } else if !near.proven {
+                if shared & near.fans[lane] != 0 {
+                    fans += 1;
+                } else {
+                    adjacent.push([i, c0 + c]);
+                }
+            }
+        });
+        fans
     }
 
     /// For each of `cands` (at most 16), the boxes of the 16 from `start` (padding
@@ -413,6 +538,188 @@ unsafe fn masks_16_avx512(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16;
     masks
 }
 
+/// [`Lanes::pairs_16`] in AVX-512: the boxes as in [`masks_16_avx512`], then per
+/// candidate the meeting lanes' pairs (64 bits each: `[i, c]` as two `u32`, little-endian)
+/// compressed to the front of two registers and stored whole at the end of `out`.
+///
+/// # Safety
+/// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,popcnt")]
+unsafe fn pairs_16_avx512(
+    run: &[&[f32]; 6],
+    cands: &[Aabb],
+    keep: u32,
+    upper: bool,
+    first: u32,
+    c0: u32,
+    out: &mut Vec<[u32; 2]>,
+) {
+    use std::arch::x86_64::*;
+    // SAFETY: each slice holds sixteen floats; the loads need no alignment.
+    let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
+    let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
+    // The lanes' numbers in the low halves of 64-bit pair words, lanes 0-7 and 8-15.
+    let lanes_lo = _mm512_add_epi64(
+        _mm512_set1_epi64(i64::from(first)),
+        _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7),
+    );
+    let lanes_hi = _mm512_add_epi64(lanes_lo, _mm512_set1_epi64(8));
+    // Every candidate writes two whole registers (eight pairs each) at the end: room for
+    // sixteen pairs per candidate and eight past the last.
+    out.reserve(16 * cands.len() + 8);
+    let mut len = out.len();
+    let base = out.as_mut_ptr();
+    for (c, b) in cands.iter().enumerate() {
+        // With `upper`, candidate `c` drops the lanes up to and including its own.
+        let keep = if upper {
+            keep & !((2u32 << c) - 1)
+        } else {
+            keep
+        } as u16;
+        let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
+        let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
+        let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
+        let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
+        let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
+        let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
+        let m = x & y & z;
+        let q = _mm512_set1_epi64(i64::from(c0 + c as u32) << 32);
+        let (m_lo, m_hi) = (m as u8, (m >> 8) as u8);
+        let lo = _mm512_maskz_compress_epi64(m_lo, _mm512_or_si512(lanes_lo, q));
+        let hi = _mm512_maskz_compress_epi64(m_hi, _mm512_or_si512(lanes_hi, q));
+        // SAFETY: `len + 8 <= capacity` before either store (reserved above: at most
+        // sixteen pairs per candidate so far, eight more written), and a `[u32; 2]` is
+        // eight bytes, so each store writes inside the allocation; the unaligned stores
+        // need no alignment.
+        unsafe {
+            _mm512_storeu_si512(base.add(len).cast(), lo);
+            len += m_lo.count_ones() as usize;
+            _mm512_storeu_si512(base.add(len).cast(), hi);
+            len += m_hi.count_ones() as usize;
+        }
+    }
+    // SAFETY: the pairs up to `len` were all written above (whole `[u32; 2]`s), within
+    // capacity.
+    unsafe { out.set_len(len) };
+}
+
+/// [`Lanes::split_16`] in AVX-512 for polygons of `K` corners: the boxes as in
+/// [`pairs_16_avx512`], then each candidate's `K` vertex indices against the sixteen
+/// polygons' corners (`K * K` compares, only in lanes whose boxes meet), the pairs stored
+/// as there.
+///
+/// # Safety
+/// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes, `near.fans` and
+/// `near.corners[..K]` sixteen entries each.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,popcnt")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn split_16_avx512<const K: usize>(
+    run: &[&[f32]; 6],
+    cands: &[Aabb],
+    keep: u32,
+    upper: bool,
+    first: u32,
+    c0: u32,
+    near: &Near16<'_>,
+    apart: &mut Vec<[u32; 2]>,
+    adjacent: &mut Vec<[u32; 2]>,
+) -> usize {
+    use std::arch::x86_64::*;
+    // SAFETY: each slice holds sixteen floats (the caller's promise); the loads need no
+    // alignment.
+    let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
+    let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
+    let mut corner = [_mm512_setzero_si512(); K];
+    for (c, at) in corner.iter_mut().enumerate() {
+        // SAFETY: sixteen `u32` (the caller's promise), no alignment needed.
+        *at = unsafe { _mm512_loadu_si512(near.corners[c].as_ptr().cast()) };
+    }
+    // Lanes whose corner `c` has a proven fan.
+    // SAFETY: sixteen bytes (the caller's promise), no alignment needed.
+    let fan_bytes = unsafe { _mm_loadu_si128(near.fans.as_ptr().cast()) };
+    let fans = _mm512_cvtepu8_epi32(fan_bytes);
+    let mut proven_fan = [0u16; K];
+    for (c, f) in proven_fan.iter_mut().enumerate().take(3) {
+        *f = _mm512_test_epi32_mask(fans, _mm512_set1_epi32(1 << c));
+    }
+    let lanes_lo = _mm512_add_epi64(
+        _mm512_set1_epi64(i64::from(first)),
+        _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7),
+    );
+    let lanes_hi = _mm512_add_epi64(lanes_lo, _mm512_set1_epi64(8));
+    apart.reserve(16 * cands.len() + 8);
+    adjacent.reserve(16 * cands.len() + 8);
+    let (mut len, mut adj_len) = (apart.len(), adjacent.len());
+    let (base, adj_base) = (apart.as_mut_ptr(), adjacent.as_mut_ptr());
+    let mut counted = 0;
+    for (c, (b, v)) in cands.iter().zip(near.cand).enumerate() {
+        let keep = if upper {
+            keep & !((2u32 << c) - 1)
+        } else {
+            keep
+        } as u16;
+        let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
+        let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
+        let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
+        let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
+        let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
+        let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
+        let m = x & y & z;
+        // Per corner of the lanes' polygons: held by the candidate too.
+        let (mut shared, mut by_fan) = (0u16, 0u16);
+        for c in 0..K {
+            let mut s = 0u16;
+            for &vj in &v[..K] {
+                s |= _mm512_mask_cmpeq_epi32_mask(m, corner[c], _mm512_set1_epi32(vj as i32));
+            }
+            shared |= s;
+            by_fan |= s & proven_fan[c];
+        }
+        let q = _mm512_set1_epi64(i64::from(c0 + c as u32) << 32);
+        let (pair_lo, pair_hi) = (_mm512_or_si512(lanes_lo, q), _mm512_or_si512(lanes_hi, q));
+        let far = m & !shared;
+        // SAFETY: as in `pairs_16_avx512`: `len + 8 <= capacity` before each store.
+        unsafe {
+            let (lo, hi) = (far as u8, (far >> 8) as u8);
+            _mm512_storeu_si512(
+                base.add(len).cast(),
+                _mm512_maskz_compress_epi64(lo, pair_lo),
+            );
+            len += lo.count_ones() as usize;
+            _mm512_storeu_si512(
+                base.add(len).cast(),
+                _mm512_maskz_compress_epi64(hi, pair_hi),
+            );
+            len += hi.count_ones() as usize;
+        }
+        if near.proven {
+            continue;
+        }
+        counted += by_fan.count_ones() as usize;
+        let left = shared & !by_fan;
+        if left != 0 {
+            // SAFETY: as above, for `adjacent`.
+            unsafe {
+                let (lo, hi) = (left as u8, (left >> 8) as u8);
+                let at = adj_base.add(adj_len).cast();
+                _mm512_storeu_si512(at, _mm512_maskz_compress_epi64(lo, pair_lo));
+                adj_len += lo.count_ones() as usize;
+                let at = adj_base.add(adj_len).cast();
+                _mm512_storeu_si512(at, _mm512_maskz_compress_epi64(hi, pair_hi));
+                adj_len += hi.count_ones() as usize;
+            }
+        }
+    }
+    // SAFETY: the pairs up to `len` and `adj_len` were all written above, within capacity.
+    unsafe {
+        apart.set_len(len);
+        adjacent.set_len(adj_len);
+    }
+    counted
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -497,6 +804,24 @@ mod tests {
             });
             lanes.each_pair_16(range.clone(), cands, false, |i, c| got.push((c, i)));
             assert_eq!(got, want, "{range:?}");
+            // As pairs appended to a list (after what it holds), candidates numbered from
+            // 100: the same, in the same order.
+            let mut list = vec![[7, 7]];
+            for cs in cands.chunks(16).enumerate() {
+                lanes.pairs_16(
+                    range.clone(),
+                    cs.1,
+                    100 + 16 * cs.0 as u32,
+                    false,
+                    &mut list,
+                );
+            }
+            let listed: Vec<(u32, u32)> = list[1..].iter().map(|&[i, c]| (c - 100, i)).collect();
+            assert_eq!(
+                (list[0], listed),
+                ([7, 7], want.clone()),
+                "{range:?}, listed"
+            );
             if range.len() > 3 {
                 assert!(!want.is_empty());
             }
@@ -511,6 +836,13 @@ mod tests {
             });
             dense.each_pair_16(range.clone(), own, true, |i, c| got.push((c, i)));
             assert_eq!(got, want, "{range:?} with itself");
+            let mut list = Vec::new();
+            dense.pairs_16(range.clone(), own, range.start as u32, true, &mut list);
+            let listed: Vec<(u32, u32)> = list
+                .iter()
+                .map(|&[i, c]| (c - range.start as u32, i))
+                .collect();
+            assert_eq!(listed, want, "{range:?} with itself, listed");
             // Each kernel's masks give those pairs: the portable one and AVX2 too (the test
             // machine may prefer AVX-512).
             if !range.is_empty() {
@@ -567,5 +899,146 @@ mod tests {
         lanes.resize(3);
         assert_eq!(lanes.len(), 3);
         assert_eq!(lanes.get(3), Aabb::EMPTY);
+    }
+
+    /// `split_16` (AVX-512 here where the CPU has it) and its portable path against a
+    /// brute force: every box pair by `Aabb::overlaps`, every shared corner by comparing
+    /// vertex indices, on boxes that often meet and vertex indices from a small pool (so
+    /// that pairs share one, two or three corners), triangles and quads, with and without
+    /// `proven`.
+    #[test]
+    fn split_16_matches_a_brute_force_split() {
+        let mut s = 11u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s >> 11
+        };
+        let n = 53;
+        let boxes: Vec<Aabb> = (0..n)
+            .map(|i| {
+                let x = 0.25 * i as f32 + (rnd() % 100) as f32 / 100.0;
+                let y = (rnd() % 100) as f32 / 100.0;
+                Aabb {
+                    min: [x, y, 0.0],
+                    max: [x + 1.5, y + 0.8, (rnd() % 2) as f32],
+                }
+            })
+            .collect();
+        let mut lanes = Lanes::default();
+        lanes.resize(n);
+        for (i, b) in boxes.iter().enumerate() {
+            lanes.set(i, b);
+        }
+        let (mut counts, mut totals) = ([0usize; 3], 0);
+        for k in [3, 4] {
+            let verts: Vec<[u32; 4]> = (0..n)
+                .map(|_| {
+                    let mut v = [u32::MAX; 4];
+                    for x in &mut v[..k] {
+                        *x = (rnd() % 24) as u32;
+                    }
+                    v
+                })
+                .collect();
+            let fan_bits: Vec<u8> = (0..n + 16).map(|_| (rnd() % 8) as u8).collect();
+            let corners: Vec<Vec<u32>> = (0..4)
+                .map(|c| {
+                    (0..n + 16)
+                        .map(|x| verts.get(x).map_or(u32::MAX, |v| v[c]))
+                        .collect()
+                })
+                .collect();
+            for (range, others) in [
+                (0..16, 16..32),
+                (3..19, 3..19),
+                (30..37, 30..37),
+                (40..53, 20..36),
+                (5..6, 0..16),
+                (44..53, 44..53),
+            ] {
+                for proven in [false, true] {
+                    let upper = range == others;
+                    let at = range.start..;
+                    let near = Near16 {
+                        k,
+                        corners: [
+                            &corners[0][at.clone()],
+                            &corners[1][at.clone()],
+                            &corners[2][at.clone()],
+                            &corners[3][at.clone()],
+                        ],
+                        fans: &fan_bits[at],
+                        cand: &verts[others.clone()],
+                        proven,
+                    };
+                    let (mut want_apart, mut want_adj, mut want_fans) = (Vec::new(), Vec::new(), 0);
+                    for (c, q) in others.clone().enumerate() {
+                        for p in range.clone() {
+                            if (upper && p <= range.start + c) || !boxes[p].overlaps(&boxes[q], 0.0)
+                            {
+                                continue;
+                            }
+                            let shared = (0..k)
+                                .filter(|&ci| verts[q][..k].contains(&verts[p][ci]))
+                                .fold(0u8, |b, ci| b | 1 << ci);
+                            let pair = [p as u32, 1000 + c as u32];
+                            if shared == 0 {
+                                want_apart.push(pair);
+                            } else if !proven {
+                                if shared & fan_bits[p] != 0 {
+                                    want_fans += 1;
+                                } else {
+                                    want_adj.push(pair);
+                                }
+                            }
+                        }
+                    }
+                    let cands = &boxes[others.clone()];
+                    let want = (want_apart, want_adj, want_fans);
+                    let (mut apart, mut adj) = (vec![[9, 9]], Vec::new());
+                    let fans = lanes.split_16(
+                        range.clone(),
+                        cands,
+                        1000,
+                        upper,
+                        &near,
+                        &mut apart,
+                        &mut adj,
+                    );
+                    assert_eq!(apart.remove(0), [9, 9]);
+                    assert_eq!(
+                        (apart, adj, fans),
+                        want,
+                        "{range:?} {others:?} k {k} proven {proven}"
+                    );
+                    let (mut apart, mut adj) = (Vec::new(), Vec::new());
+                    let fans = lanes.split_16_plain(
+                        range.clone(),
+                        cands,
+                        1000,
+                        upper,
+                        &near,
+                        &mut apart,
+                        &mut adj,
+                    );
+                    assert_eq!(
+                        (apart, adj, fans),
+                        want,
+                        "{range:?} {others:?} k {k} proven {proven}, portable"
+                    );
+                    counts[0] += want.0.len();
+                    counts[1] += want.1.len();
+                    counts[2] += want.2;
+                    totals += 1;
+                }
+            }
+        }
+        // Every kind of outcome was met, many times.
+        assert!(
+            counts.iter().all(|&c| c > 20),
+            "{counts:?} over {totals} calls"
+        );
     }
 }
