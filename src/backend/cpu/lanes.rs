@@ -177,8 +177,6 @@ impl Lanes {
             return;
         }
         let keep = (1u32 << range.len()) - 1;
-        // With `upper`, candidate `c` drops the lanes up to and including its own.
-        let below = |c: usize| if upper { (2u32 << c) - 1 } else { 0 };
         let first = range.start as u32;
         // Sixteen candidates' masks first, the calls after: a call inside the compare loop
         // would make the bound registers be saved and reloaded around it.
@@ -186,7 +184,7 @@ impl Lanes {
             let masks = self.masks_16(range.start, cs, keep);
             for (i, &m) in masks[..cs.len()].iter().enumerate() {
                 let c = 16 * block + i;
-                let mut bits = u32::from(m) & !below(c);
+                let mut bits = u32::from(m & lanes_kept(keep, upper, c));
                 while bits != 0 {
                     f(first + bits.trailing_zeros(), c as u32);
                     bits &= bits - 1;
@@ -307,17 +305,13 @@ impl Lanes {
     }
 
     /// For each of `cands` (at most 16), the boxes of the 16 from `start` (padding
-    /// included) that meet it, as bits, within `keep`: in AVX-512 or AVX2 where the CPU has
-    /// it, else one box at a time.
+    /// included) that meet it, as bits, within `keep`: in AVX2 where the CPU has it, else
+    /// one box at a time (where it has AVX-512, [`Lanes::pairs_16`] and
+    /// [`Lanes::split_16`] test them in [`Boxes16`]).
     #[inline]
     fn masks_16(&self, start: usize, cands: &[Aabb], keep: u32) -> [u16; 16] {
         debug_assert!(cands.len() <= 16);
         let run = self.run(start..start + 2 * LANES);
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU supports AVX-512F, checked just above.
-            return unsafe { masks_16_avx512(&run, cands, keep) };
-        }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
@@ -510,22 +504,30 @@ unsafe fn masks_16_avx2(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16; 1
     masks
 }
 
-/// [`Lanes::masks_16`] in AVX-512: the sixteen boxes in one register per bound, each
-/// candidate's compares chained through mask registers (one short chain per axis, each
-/// compare only where the previous one held).
-///
-/// # Safety
-/// The CPU must support AVX-512F; `run` holds sixteen boxes.
+/// Sixteen boxes in AVX-512 registers, one per bound (lo xyz, hi xyz).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn masks_16_avx512(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16; 16] {
-    use std::arch::x86_64::*;
-    // SAFETY: each slice holds sixteen floats; the loads need no alignment.
-    let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
-    let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
-    let keep = keep as u16;
-    let mut masks = [0u16; 16];
-    for (m, b) in masks.iter_mut().zip(cands) {
+#[derive(Clone, Copy)]
+struct Boxes16([std::arch::x86_64::__m512; 6]);
+
+#[cfg(target_arch = "x86_64")]
+impl Boxes16 {
+    /// # Safety
+    /// The CPU must support AVX-512F; `run` holds sixteen boxes.
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    unsafe fn load(run: &[&[f32]; 6]) -> Boxes16 {
+        // SAFETY: each slice holds sixteen floats (the caller's promise); the loads need
+        // no alignment.
+        Boxes16(run.map(|r| unsafe { std::arch::x86_64::_mm512_loadu_ps(r.as_ptr()) }))
+    }
+
+    /// The boxes among `keep` that meet `b` (closed), as bits: each axis's two compares
+    /// chained through a mask register (the second only where the first held).
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn meet(&self, b: &Aabb, keep: u16) -> u16 {
+        use std::arch::x86_64::*;
+        let [lx, ly, lz, hx, hy, hz] = self.0;
         // Ordered, non-signalling compares: `>=` and `<=` as in Rust.
         let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
         let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
@@ -533,14 +535,66 @@ unsafe fn masks_16_avx512(run: &[&[f32]; 6], cands: &[Aabb], keep: u32) -> [u16;
         let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
         let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
         let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
-        *m = x & y & z;
+        x & y & z
     }
-    masks
 }
 
-/// [`Lanes::pairs_16`] in AVX-512: the boxes as in [`masks_16_avx512`], then per
-/// candidate the meeting lanes' pairs (64 bits each: `[i, c]` as two `u32`, little-endian)
-/// compressed to the front of two registers and stored whole at the end of `out`.
+/// The lanes `c`'s sixteen boxes keep: all those of `keep` or, with `upper` (a range
+/// against its own boxes), those after `c`.
+#[inline]
+fn lanes_kept(keep: u32, upper: bool, c: usize) -> u16 {
+    (if upper {
+        keep & !((2u32 << c) - 1)
+    } else {
+        keep
+    }) as u16
+}
+
+/// Pair words of sixteen lanes (64 bits each: `[i, c]` as two `u32`, little-endian) in two
+/// registers, lanes 0-7 and 8-15: the lanes `first..first + 16` with candidate `c`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn pair_words(first: u32, c: u32) -> [std::arch::x86_64::__m512i; 2] {
+    use std::arch::x86_64::*;
+    let c = _mm512_set1_epi64(i64::from(c) << 32);
+    let lo = _mm512_add_epi64(
+        _mm512_set1_epi64(i64::from(first)),
+        _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7),
+    );
+    let hi = _mm512_add_epi64(lo, _mm512_set1_epi64(8));
+    [_mm512_or_si512(lo, c), _mm512_or_si512(hi, c)]
+}
+
+/// Appends the pairs of the lanes in `m` to the list at `base` of length `*len`: each half
+/// compressed to the front of its register and stored whole (eight pairs), the length
+/// advanced by its count. No branch: a candidate meeting nothing costs the same stores.
+///
+/// # Safety
+/// The CPU must support AVX-512F and POPCNT; `*len + 24` pairs fit in the allocation at
+/// `base` (sixteen appended, and one whole store past them).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,popcnt")]
+#[inline]
+unsafe fn append16(
+    base: *mut [u32; 2],
+    len: &mut usize,
+    m: u16,
+    pairs: &[std::arch::x86_64::__m512i; 2],
+) {
+    use std::arch::x86_64::*;
+    for (half, words) in [m as u8, (m >> 8) as u8].into_iter().zip(pairs) {
+        let packed = _mm512_maskz_compress_epi64(half, *words);
+        // SAFETY: `*len + 16 <= capacity` here (the caller's promise, at most eight pairs
+        // appended before), and a `[u32; 2]` is eight bytes: the store writes inside the
+        // allocation; it needs no alignment.
+        unsafe { _mm512_storeu_si512(base.add(*len).cast(), packed) };
+        *len += half.count_ones() as usize;
+    }
+}
+
+/// [`Lanes::pairs_16`] in AVX-512: per candidate, the meeting lanes' pairs appended
+/// ([`append16`]).
 ///
 /// # Safety
 /// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes.
@@ -555,59 +609,24 @@ unsafe fn pairs_16_avx512(
     c0: u32,
     out: &mut Vec<[u32; 2]>,
 ) {
-    use std::arch::x86_64::*;
-    // SAFETY: each slice holds sixteen floats; the loads need no alignment.
-    let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
-    let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
-    // The lanes' numbers in the low halves of 64-bit pair words, lanes 0-7 and 8-15.
-    let lanes_lo = _mm512_add_epi64(
-        _mm512_set1_epi64(i64::from(first)),
-        _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7),
-    );
-    let lanes_hi = _mm512_add_epi64(lanes_lo, _mm512_set1_epi64(8));
-    // Every candidate writes two whole registers (eight pairs each) at the end: room for
-    // sixteen pairs per candidate and eight past the last.
+    // SAFETY: the caller's promise.
+    let boxes = unsafe { Boxes16::load(run) };
+    // Room for sixteen pairs per candidate and one whole store past the last.
     out.reserve(16 * cands.len() + 8);
-    let mut len = out.len();
-    let base = out.as_mut_ptr();
+    let (mut len, base) = (out.len(), out.as_mut_ptr());
     for (c, b) in cands.iter().enumerate() {
-        // With `upper`, candidate `c` drops the lanes up to and including its own.
-        let keep = if upper {
-            keep & !((2u32 << c) - 1)
-        } else {
-            keep
-        } as u16;
-        let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
-        let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
-        let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
-        let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
-        let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
-        let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
-        let m = x & y & z;
-        let q = _mm512_set1_epi64(i64::from(c0 + c as u32) << 32);
-        let (m_lo, m_hi) = (m as u8, (m >> 8) as u8);
-        let lo = _mm512_maskz_compress_epi64(m_lo, _mm512_or_si512(lanes_lo, q));
-        let hi = _mm512_maskz_compress_epi64(m_hi, _mm512_or_si512(lanes_hi, q));
-        // SAFETY: `len + 8 <= capacity` before either store (reserved above: at most
-        // sixteen pairs per candidate so far, eight more written), and a `[u32; 2]` is
-        // eight bytes, so each store writes inside the allocation; the unaligned stores
-        // need no alignment.
-        unsafe {
-            _mm512_storeu_si512(base.add(len).cast(), lo);
-            len += m_lo.count_ones() as usize;
-            _mm512_storeu_si512(base.add(len).cast(), hi);
-            len += m_hi.count_ones() as usize;
-        }
+        let m = boxes.meet(b, lanes_kept(keep, upper, c));
+        // SAFETY: at most sixteen pairs appended per candidate so far: room reserved.
+        unsafe { append16(base, &mut len, m, &pair_words(first, c0 + c as u32)) };
     }
-    // SAFETY: the pairs up to `len` were all written above (whole `[u32; 2]`s), within
-    // capacity.
+    // SAFETY: the pairs up to `len` were all written, within capacity.
     unsafe { out.set_len(len) };
 }
 
 /// [`Lanes::split_16`] in AVX-512 for polygons of `K` corners: the boxes as in
 /// [`pairs_16_avx512`], then each candidate's `K` vertex indices against the sixteen
-/// polygons' corners (`K * K` compares, only in lanes whose boxes meet), the pairs stored
-/// as there.
+/// polygons' corners (`K * K` compares, only in lanes whose boxes meet), the pairs
+/// appended as there.
 ///
 /// # Safety
 /// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes, `near.fans` and
@@ -627,10 +646,8 @@ unsafe fn split_16_avx512<const K: usize>(
     adjacent: &mut Vec<[u32; 2]>,
 ) -> usize {
     use std::arch::x86_64::*;
-    // SAFETY: each slice holds sixteen floats (the caller's promise); the loads need no
-    // alignment.
-    let ld = |k: usize| unsafe { _mm512_loadu_ps(run[k].as_ptr()) };
-    let (lx, ly, lz, hx, hy, hz) = (ld(0), ld(1), ld(2), ld(3), ld(4), ld(5));
+    // SAFETY: the caller's promise.
+    let boxes = unsafe { Boxes16::load(run) };
     let mut corner = [_mm512_setzero_si512(); K];
     for (c, at) in corner.iter_mut().enumerate() {
         // SAFETY: sixteen `u32` (the caller's promise), no alignment needed.
@@ -644,29 +661,14 @@ unsafe fn split_16_avx512<const K: usize>(
     for (c, f) in proven_fan.iter_mut().enumerate().take(3) {
         *f = _mm512_test_epi32_mask(fans, _mm512_set1_epi32(1 << c));
     }
-    let lanes_lo = _mm512_add_epi64(
-        _mm512_set1_epi64(i64::from(first)),
-        _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7),
-    );
-    let lanes_hi = _mm512_add_epi64(lanes_lo, _mm512_set1_epi64(8));
+    // Room for sixteen pairs per candidate and one whole store past the last, each list.
     apart.reserve(16 * cands.len() + 8);
     adjacent.reserve(16 * cands.len() + 8);
     let (mut len, mut adj_len) = (apart.len(), adjacent.len());
     let (base, adj_base) = (apart.as_mut_ptr(), adjacent.as_mut_ptr());
     let mut counted = 0;
     for (c, (b, v)) in cands.iter().zip(near.cand).enumerate() {
-        let keep = if upper {
-            keep & !((2u32 << c) - 1)
-        } else {
-            keep
-        } as u16;
-        let x = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hx, _mm512_set1_ps(b.min[0]));
-        let x = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(x, lx, _mm512_set1_ps(b.max[0]));
-        let y = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hy, _mm512_set1_ps(b.min[1]));
-        let y = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(y, ly, _mm512_set1_ps(b.max[1]));
-        let z = _mm512_mask_cmp_ps_mask::<_CMP_GE_OQ>(keep, hz, _mm512_set1_ps(b.min[2]));
-        let z = _mm512_mask_cmp_ps_mask::<_CMP_LE_OQ>(z, lz, _mm512_set1_ps(b.max[2]));
-        let m = x & y & z;
+        let m = boxes.meet(b, lanes_kept(keep, upper, c));
         // Per corner of the lanes' polygons: held by the candidate too.
         let (mut shared, mut by_fan) = (0u16, 0u16);
         for c in 0..K {
@@ -677,39 +679,18 @@ unsafe fn split_16_avx512<const K: usize>(
             shared |= s;
             by_fan |= s & proven_fan[c];
         }
-        let q = _mm512_set1_epi64(i64::from(c0 + c as u32) << 32);
-        let (pair_lo, pair_hi) = (_mm512_or_si512(lanes_lo, q), _mm512_or_si512(lanes_hi, q));
-        let far = m & !shared;
-        // SAFETY: as in `pairs_16_avx512`: `len + 8 <= capacity` before each store.
-        unsafe {
-            let (lo, hi) = (far as u8, (far >> 8) as u8);
-            _mm512_storeu_si512(
-                base.add(len).cast(),
-                _mm512_maskz_compress_epi64(lo, pair_lo),
-            );
-            len += lo.count_ones() as usize;
-            _mm512_storeu_si512(
-                base.add(len).cast(),
-                _mm512_maskz_compress_epi64(hi, pair_hi),
-            );
-            len += hi.count_ones() as usize;
-        }
+        let pairs = pair_words(first, c0 + c as u32);
+        // SAFETY (both appends): at most sixteen pairs appended to each list per
+        // candidate so far: room reserved.
+        unsafe { append16(base, &mut len, m & !shared, &pairs) };
         if near.proven {
             continue;
         }
         counted += by_fan.count_ones() as usize;
         let left = shared & !by_fan;
         if left != 0 {
-            // SAFETY: as above, for `adjacent`.
-            unsafe {
-                let (lo, hi) = (left as u8, (left >> 8) as u8);
-                let at = adj_base.add(adj_len).cast();
-                _mm512_storeu_si512(at, _mm512_maskz_compress_epi64(lo, pair_lo));
-                adj_len += lo.count_ones() as usize;
-                let at = adj_base.add(adj_len).cast();
-                _mm512_storeu_si512(at, _mm512_maskz_compress_epi64(hi, pair_hi));
-                adj_len += hi.count_ones() as usize;
-            }
+            // SAFETY: as above.
+            unsafe { append16(adj_base, &mut adj_len, left, &pairs) };
         }
     }
     // SAFETY: the pairs up to `len` and `adj_len` were all written above, within capacity.
