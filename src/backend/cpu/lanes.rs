@@ -680,8 +680,8 @@ unsafe fn split_16_avx512<const K: usize>(
             by_fan |= s & proven_fan[c];
         }
         let pairs = pair_words(first, c0 + c as u32);
-        // SAFETY (both appends): at most sixteen pairs appended to each list per
-        // candidate so far: room reserved.
+        // SAFETY: at most sixteen pairs appended to each list per candidate so far: room
+        // reserved.
         unsafe { append16(base, &mut len, m & !shared, &pairs) };
         if near.proven {
             continue;
