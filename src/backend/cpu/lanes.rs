@@ -193,12 +193,13 @@ impl Lanes {
         }
     }
 
-    /// [`Lanes::each_pair_16`]'s pairs appended to `out` as `[first + i, c0 + c]`, in the
-    /// same order. Where the CPU has AVX-512F, without a call or a branch per pair: each
-    /// candidate's sixteen answers are compressed into pairs in registers and stored
-    /// whole (the stores past the new end land in capacity reserved first). The pairs of
-    /// two sub-leaves that share no vertex all go to one list (the exact test), so no
-    /// per-pair decision is left for a call to make.
+    /// [`Lanes::each_pair_16`]'s pairs for at most sixteen candidates (a sub-leaf),
+    /// appended to `out` as `[range.start + i, c0 + c]`, in the same order. Where the CPU
+    /// has AVX-512F, without a call or a branch per pair: each candidate meeting a box has
+    /// its sixteen answers compressed into pairs in registers and stored whole (the stores
+    /// past the new end land in capacity reserved first). The pairs of two sub-leaves that
+    /// share no vertex all go to one list (the exact test), so no per-pair decision is left
+    /// for a call to make.
     #[inline]
     pub fn pairs_16(
         &self,
@@ -208,7 +209,7 @@ impl Lanes {
         upper: bool,
         out: &mut Vec<[u32; 2]>,
     ) {
-        assert!(range.end <= self.len() && range.len() <= 2 * LANES);
+        assert!(range.end <= self.len() && range.len() <= 2 * LANES && cands.len() <= 16);
         assert!(!upper || cands.len() == range.len());
         if range.is_empty() {
             return;
@@ -246,7 +247,8 @@ impl Lanes {
     ) -> usize {
         assert!(range.end <= self.len() && range.len() <= 2 * LANES);
         assert!(!upper || cands.len() == range.len());
-        assert!(near.cand.len() == cands.len() && (near.k == 3 || near.k == 4));
+        assert!(cands.len() <= 16 && near.cand.len() == cands.len());
+        assert!(near.k == 3 || near.k == 4);
         assert!(
             near.fans.len() >= 2 * LANES
                 && near.corners[..near.k].iter().all(|c| c.len() >= 2 * LANES)
@@ -550,6 +552,20 @@ fn lanes_kept(keep: u32, upper: bool, c: usize) -> u16 {
     }) as u16
 }
 
+/// Each candidate's lanes that meet it ([`Boxes16::meet`], within [`lanes_kept`]), and
+/// the candidates that meet any as bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn meets16(boxes: &Boxes16, cands: &[Aabb], keep: u32, upper: bool) -> ([u16; 16], u32) {
+    let (mut masks, mut hit) = ([0u16; 16], 0);
+    for (c, (b, m)) in cands.iter().zip(&mut masks).enumerate() {
+        *m = boxes.meet(b, lanes_kept(keep, upper, c));
+        hit |= u32::from(*m != 0) << c;
+    }
+    (masks, hit)
+}
+
 /// Pair words of sixteen lanes (64 bits each: `[i, c]` as two `u32`, little-endian) in two
 /// registers, lanes 0-7 and 8-15: the lanes `first..first + 16` with candidate `c`.
 #[cfg(target_arch = "x86_64")]
@@ -611,13 +627,17 @@ unsafe fn pairs_16_avx512(
 ) {
     // SAFETY: the caller's promise.
     let boxes = unsafe { Boxes16::load(run) };
+    // Every candidate's boxes first, then the candidates that meet one (a fifth of them
+    // between two sub-leaves of a crumpled cloth): the stores cost more than the tests.
+    let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
     // Room for sixteen pairs per candidate and one whole store past the last.
     out.reserve(16 * cands.len() + 8);
     let (mut len, base) = (out.len(), out.as_mut_ptr());
-    for (c, b) in cands.iter().enumerate() {
-        let m = boxes.meet(b, lanes_kept(keep, upper, c));
+    while hit != 0 {
+        let c = hit.trailing_zeros() as usize;
+        hit &= hit - 1;
         // SAFETY: at most sixteen pairs appended per candidate so far: room reserved.
-        unsafe { append16(base, &mut len, m, &pair_words(first, c0 + c as u32)) };
+        unsafe { append16(base, &mut len, masks[c], &pair_words(first, c0 + c as u32)) };
     }
     // SAFETY: the pairs up to `len` were all written, within capacity.
     unsafe { out.set_len(len) };
@@ -667,8 +687,11 @@ unsafe fn split_16_avx512<const K: usize>(
     let (mut len, mut adj_len) = (apart.len(), adjacent.len());
     let (base, adj_base) = (apart.as_mut_ptr(), adjacent.as_mut_ptr());
     let mut counted = 0;
-    for (c, (b, v)) in cands.iter().zip(near.cand).enumerate() {
-        let m = boxes.meet(b, lanes_kept(keep, upper, c));
+    let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
+    while hit != 0 {
+        let c = hit.trailing_zeros() as usize;
+        hit &= hit - 1;
+        let (m, v) = (masks[c], &near.cand[c]);
         // Per corner of the lanes' polygons: held by the candidate too.
         let (mut shared, mut by_fan) = (0u16, 0u16);
         for c in 0..K {
