@@ -20,8 +20,8 @@ use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
 use crate::geom::tritri::{apart_in_projection, in_one_axis_plane, shared_axis_plane, Plane};
 use crate::geom::volume::Cell;
-use crate::geom::Aabb;
 use crate::geom::P3;
+use crate::geom::{f32_down, f32_up, Aabb};
 use crate::mesh::Mesh;
 use std::time::Instant;
 
@@ -580,31 +580,38 @@ impl SelfPrep {
             self.certified_patches += out.patches.iter().filter(|&&pr| pr != 0).count();
             self.patch_cert.extend(out.patches);
         }
+        // The polygons' boxes: a triangle's from its corners, already made (bounds rounded
+        // outward: the same box as `Mesh::poly_box` for a float mesh, and one holding the
+        // very triangle tested for the others), without reading the mesh again.
         self.boxes.clear();
-        if par {
-            let order = &self.order;
-            self.boxes
-                .par_extend(order.par_iter().map(|&p| m.poly_box(p as usize)));
-        } else {
-            self.boxes
-                .extend(self.order.iter().map(|&p| m.poly_box(p as usize)));
+        let order = &self.order;
+        match (triangles, par) {
+            (true, true) => self.boxes.par_extend(self.tris.par_iter().map(corner_box)),
+            (true, false) => self.boxes.extend(self.tris.iter().map(corner_box)),
+            (false, true) => self
+                .boxes
+                .par_extend(order.par_iter().map(|&p| m.poly_box(p as usize))),
+            (false, false) => self
+                .boxes
+                .extend(order.iter().map(|&p| m.poly_box(p as usize))),
         }
-        self.lanes.resize(n);
-        for (i, b) in self.boxes.iter().enumerate() {
-            self.lanes.set(i, &b.grown(h));
-        }
-        self.sub_boxes.clear();
-        self.sub_boxes.extend(self.sub_start.windows(2).map(|w| {
+        self.lanes.set_grown(&self.boxes, h, par);
+        let sub_box = |w: &[u32]| {
             let mut b = Aabb::EMPTY;
             for c in &self.boxes[w[0] as usize..w[1] as usize] {
                 b.merge(c);
             }
             b
-        }));
-        self.sub_grown.resize(self.sub_boxes.len());
-        for (i, b) in self.sub_boxes.iter().enumerate() {
-            self.sub_grown.set(i, &b.grown(h));
+        };
+        self.sub_boxes.clear();
+        if par {
+            self.sub_boxes
+                .par_extend(self.sub_start.par_windows(2).map(sub_box));
+        } else {
+            self.sub_boxes
+                .extend(self.sub_start.windows(2).map(sub_box));
         }
+        self.sub_grown.set_grown(&self.sub_boxes, h, par);
     }
 
     /// The layout of mesh `m` (the first query of this mesh): each leaf's pieces, sub-leaf
@@ -1181,6 +1188,20 @@ impl<T> Slots<T> {
         self.at[p] = (self.stamp, i as u32);
         i
     }
+}
+
+/// The box of a triangle's corners, bounds rounded outward to `f32`.
+#[inline]
+fn corner_box(t: &[P3; 3]) -> Aabb {
+    let mut b = Aabb::EMPTY;
+    for k in 0..3 {
+        let (lo, hi) = (
+            t[0][k].min(t[1][k]).min(t[2][k]),
+            t[0][k].max(t[1][k]).max(t[2][k]),
+        );
+        (b.min[k], b.max[k]) = (f32_down(lo), f32_up(hi));
+    }
+    b
 }
 
 /// The caller's vertex indices of leaf-ordered polygon `p` (the first `k` count).

@@ -53,6 +53,31 @@ impl Lanes {
         }
     }
 
+    /// The boxes become `boxes` grown by `h` ([`Aabb::grown`]), padded; bound by bound,
+    /// shared between the caller's worker threads with `par` (inside a pool).
+    pub fn set_grown(&mut self, boxes: &[Aabb], h: f64, par: bool) {
+        use rayon::prelude::*;
+        self.resize(boxes.len());
+        let bounds = self.lo.iter_mut().chain(&mut self.hi).enumerate();
+        let fill = |(k, out): (usize, &mut Vec<f32>)| {
+            let at = |b: &Aabb| {
+                let g = b.grown(h);
+                if k < 3 {
+                    g.min[k]
+                } else {
+                    g.max[k - 3]
+                }
+            };
+            let out = &mut out[..boxes.len()];
+            if par {
+                out.par_iter_mut().zip(boxes).for_each(|(o, b)| *o = at(b));
+            } else {
+                out.iter_mut().zip(boxes).for_each(|(o, b)| *o = at(b));
+            }
+        };
+        bounds.for_each(fill);
+    }
+
     /// Box `i` (`i < len`).
     #[inline]
     pub fn set(&mut self, i: usize, b: &Aabb) {
