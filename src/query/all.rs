@@ -1193,15 +1193,11 @@ impl<T> Slots<T> {
 /// The box of a triangle's corners, bounds rounded outward to `f32`.
 #[inline]
 fn corner_box(t: &[P3; 3]) -> Aabb {
-    let mut b = Aabb::EMPTY;
-    for k in 0..3 {
-        let (lo, hi) = (
-            t[0][k].min(t[1][k]).min(t[2][k]),
-            t[0][k].max(t[1][k]).max(t[2][k]),
-        );
-        (b.min[k], b.max[k]) = (f32_down(lo), f32_up(hi));
+    let [a, b, c] = t;
+    Aabb {
+        min: std::array::from_fn(|k| f32_down(a[k].min(b[k]).min(c[k]))),
+        max: std::array::from_fn(|k| f32_up(a[k].max(b[k]).max(c[k]))),
     }
-    b
 }
 
 /// The caller's vertex indices of leaf-ordered polygon `p` (the first `k` count).
