@@ -759,7 +759,7 @@ impl SelfPrep {
     /// fan, else appended to `adjacent`. Two sub-leaves sharing no vertex index list their
     /// pairs without looking at vertices ([`Lanes::pairs_16`]), the others split them
     /// ([`Lanes::split_16`]). With `exact` (epsilon 0) the pairs of proven sub-leaf pairs
-    /// are not enumerated at all. `masks` and `subs` are scratch.
+    /// are not enumerated at all. `subs` is scratch.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn box_pairs(
@@ -767,8 +767,7 @@ impl SelfPrep {
         i: usize,
         j: usize,
         exact: bool,
-        masks: &mut Vec<u32>,
-        subs: &mut Vec<(u32, u32)>,
+        subs: &mut Vec<[u32; 2]>,
         mut proven_subs: impl FnMut(usize, usize) -> bool,
         apart: &mut Vec<[u32; 2]>,
         adjacent: &mut Vec<[u32; 2]>,
@@ -777,18 +776,28 @@ impl SelfPrep {
             self.leaf_sub[i] as usize..self.leaf_sub[i + 1] as usize,
             self.leaf_sub[j] as usize..self.leaf_sub[j + 1] as usize,
         );
-        // The sub-leaf pairs whose boxes meet (`a <= b` within one leaf), then their
-        // polygon box pairs.
+        // The sub-leaf pairs whose boxes meet (within one leaf each unordered pair once,
+        // and each sub-leaf with itself), sixteen sub-leaves at a time, then their polygon
+        // box pairs.
         subs.clear();
-        self.sub_grown
-            .each_pair(si, &self.sub_boxes[sj.clone()], masks, |a, b| {
-                let b = sj.start as u32 + b;
-                if i != j || a <= b {
-                    subs.push((a, b));
+        if i == j {
+            subs.extend(si.clone().map(|a| [a as u32; 2]));
+        }
+        for a in si.clone().step_by(16) {
+            let ra = a..(a + 16).min(si.end);
+            for b in sj.clone().step_by(16) {
+                if i == j && b < a {
+                    continue;
                 }
-            });
+                let rb = b..(b + 16).min(sj.end);
+                let cands = &self.sub_boxes[rb];
+                let upper = i == j && a == b;
+                self.sub_grown
+                    .pairs_16(ra.clone(), cands, b as u32, upper, subs);
+            }
+        }
         let mut fans = 0;
-        for &(a, b) in subs.iter() {
+        for &[a, b] in subs.iter() {
             let (a, b) = (a as usize, b as usize);
             let proven = proven_subs(a, b);
             if proven && exact {
@@ -836,9 +845,8 @@ pub struct SelfScratch {
     /// Box-meeting polygon pairs (leaf order) of a task: sharing a vertex, and not.
     adjacent: Vec<[u32; 2]>,
     apart: Vec<[u32; 2]>,
-    masks: Vec<u32>,
     /// Sub-leaf pairs of the leaf pair at hand whose boxes meet.
-    subs: Vec<(u32, u32)>,
+    subs: Vec<[u32; 2]>,
     /// Polygons prepared for the narrow test (by leaf-order index) in the task at hand;
     /// their viewing volumes likewise (`h > 0`). Made on demand, only for the pairs the
     /// lanes leave undecided and for quads: a few per task, so kept in a short list with a
@@ -958,7 +966,6 @@ pub fn self_pairs(
             i as usize,
             j as usize,
             exact,
-            &mut s.masks,
             &mut s.subs,
             proven_subs,
             &mut s.apart,
