@@ -529,7 +529,7 @@ fn main() {
         let p = st.pair_step_nanos;
         println!(
             "| {name} | {eps} | {threads} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | \
-             {} mp, {} lp, {} bp ({} / {} / {} / {}), {} + {} found; proven {} patches, {} sub-leaves, {} fans |",
+             {} mp, {} lp, {} bp ({} / {} / {} / {}), {} + {} found; proven {} patches, {} fans |",
             ms(st.total_nanos),
             ms(st.broad_nanos),
             ms(st.self_leaf_nanos),
@@ -551,7 +551,6 @@ fn main() {
             st.self_found,
             st.pair_found,
             st.self_cert_patches,
-            st.self_cert_subs,
             st.self_cert_fans,
         );
     }

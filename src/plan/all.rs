@@ -160,7 +160,6 @@ impl Planner {
         for (n, (prep, &i)) in preps.iter().zip(&selfs).enumerate() {
             let pairs = prep.leaf_pairs.len();
             st.self_cert_patches += prep.certified_patches;
-            st.self_cert_subs += prep.certified_subs;
             st.self_cert_fans += prep.certified_fans;
             st.self_leaf_pairs += pairs;
             tasks.extend((0..pairs).step_by(LEAF_PAIRS_PER_TASK).map(|s| Task::Own {

@@ -136,30 +136,30 @@ struct LeafLayout {
 }
 
 /// One connected piece of a leaf: its range of the leaf's polygons (positions from the
-/// leaf's start), boundary loop, the inner nodes of its sub-leaf split below it (parents
-/// first) with their loops, and its sub-leaves (indices into `ends`) with theirs.
+/// leaf's start) and boundary loop.
+///
+/// Only whole pieces are tried as patches: trying the halves, quarters... and sub-leaves
+/// of the pieces that fail (a crumpled cloth's) cost more than the pairs they saved once
+/// the fans decide neighbour pairs and the lanes list the others (all real and generated
+/// scenes as fast or faster without: crumpled cloth 27.2-29.0 -> 26.4-26.7 ms, rolled
+/// 17.6-17.8 -> 15.8-17.2, one thread, interleaved).
 struct PieceLayout {
     range: (usize, usize),
     boundary: Option<Loop>,
-    nodes: Vec<((usize, usize), Option<Loop>)>,
-    subs: std::ops::Range<usize>,
-    sub_loops: Vec<Option<Loop>>,
 }
 
-/// What [`leaf_certify`] proved of one leaf this query: each sub-leaf's patch (numbered
-/// within the leaf: pieces first, then proven nodes), the patches' projections (0: not
-/// proven) and boundaries, and which sub-leaves are proven on their own.
+/// What [`leaf_certify`] proved of one leaf this query: each sub-leaf's patch (its piece)
+/// and the patches' projections (0: not proven).
 struct LeafOut {
     sub_patch: Vec<u32>,
     patches: Vec<u8>,
-    sub_ok: Vec<bool>,
 }
 
 /// The layout of one leaf of a self-colliding mesh: `items` (its polygons, positions
 /// `start..` of the leaf order) are grouped by connected piece (shared edges, from the twins
 /// `tw`; one piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by
 /// median splits of the box centres along the widest axis; `local` gets each polygon's piece;
-/// then the boundary loop of every candidate patch (piece, inner node, sub-leaf).
+/// then the boundary loop of every piece.
 #[allow(clippy::too_many_arguments)]
 fn leaf_layout(
     start: usize,
@@ -222,8 +222,6 @@ fn leaf_layout(
                 .iter()
                 .take_while(|&&p| local[p as usize - start] == c)
                 .count();
-        let first_sub = out.ends.len();
-        let mut nodes = Vec::new();
         // Depth-first, left half first: sub-leaves come out in order.
         stack.push((run, end));
         while let Some((a, b)) = stack.pop() {
@@ -231,10 +229,6 @@ fn leaf_layout(
                 out.ends.push((start + b) as u32);
                 out.sub_piece.push(c);
                 continue;
-            }
-            // The first node is the piece itself.
-            if a != run || b != end {
-                nodes.push(((a, b), None));
             }
             let part = &mut items[a..b];
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
@@ -259,13 +253,9 @@ fn leaf_layout(
             stack.push((a + mid, b));
             stack.push((a, a + mid));
         }
-        let subs = first_sub..out.ends.len();
         out.pieces.push(PieceLayout {
             range: (run, end),
             boundary: None,
-            nodes,
-            sub_loops: vec![None; subs.len()],
-            subs,
         });
         run = end;
     }
@@ -292,23 +282,13 @@ fn leaf_layout(
     for piece in &mut out.pieces {
         let (a, b) = piece.range;
         piece.boundary = check.boundary_loop(bound(a, b), verts);
-        for (r, l) in &mut piece.nodes {
-            *l = check.boundary_loop(bound(r.0, r.1), verts);
-        }
-        let mut from = a;
-        for (k, l) in piece.subs.clone().zip(&mut piece.sub_loops) {
-            let to = out.ends[k] as usize - start;
-            *l = check.boundary_loop(bound(from, to), verts);
-            from = to;
-        }
     }
     out
 }
 
 /// This query's certificates of one leaf laid out as `lay` (its polygons at positions
-/// `start..` of the layout's order, the numbering of `tris` and `turns`): each piece is tried as a patch ([`crate::geom::patch`]);
-/// where one fails, the nodes of its split (halves, quarters..., largest first), then the
-/// sub-leaves no proven node holds, each on its own.
+/// `start..` of the layout's order, the numbering of `tris` and `turns`): each piece is
+/// tried as a patch ([`crate::geom::patch`]).
 fn leaf_certify(
     lay: &LeafLayout,
     start: usize,
@@ -316,74 +296,26 @@ fn leaf_certify(
     turns: &[u8],
     check: &mut PatchCheck,
 ) -> LeafOut {
-    let mut out = LeafOut {
+    let patches = lay
+        .pieces
+        .iter()
+        .map(|piece| {
+            let Some(l) = &piece.boundary else {
+                return 0;
+            };
+            let (a, b) = piece.range;
+            let m = common_turns(&mut (start + a..start + b), turns);
+            if m != 0 && check.simple(l, mask_axis(m), tris) {
+                m
+            } else {
+                0
+            }
+        })
+        .collect();
+    LeafOut {
         sub_patch: lay.sub_piece.clone(),
-        patches: Vec::with_capacity(lay.pieces.len()),
-        sub_ok: vec![false; lay.ends.len()],
-    };
-    let proves = |check: &mut PatchCheck, a: usize, b: usize, l: &Option<Loop>| -> u8 {
-        let Some(l) = l else {
-            return 0;
-        };
-        let m = common_turns(&mut (start + a..start + b), turns);
-        if m != 0 && check.simple(l, mask_axis(m), tris) {
-            m
-        } else {
-            0
-        }
-    };
-    let mut nodes = Vec::new();
-    for piece in &lay.pieces {
-        let (a, b) = piece.range;
-        let m = proves(check, a, b, &piece.boundary);
-        out.patches.push(m);
-        if m != 0 {
-            continue;
-        }
-        if piece.boundary.is_none()
-            && piece.nodes.is_empty()
-            && piece.sub_loops.iter().all(Option::is_none)
-        {
-            continue;
-        }
-        let first_node = nodes.len();
-        let mut covered = a;
-        for ((na, nb), l) in &piece.nodes {
-            if *na < covered {
-                continue;
-            }
-            let m = proves(check, *na, *nb, l);
-            if m != 0 {
-                nodes.push((*na, *nb, m));
-                covered = *nb;
-            }
-        }
-        let mut from = a;
-        let mut next = first_node;
-        for (k, l) in piece.subs.clone().zip(&piece.sub_loops) {
-            let to = lay.ends[k] as usize - start;
-            while next < nodes.len() && nodes[next].1 <= from {
-                next += 1;
-            }
-            let held = nodes.get(next).is_some_and(|n| n.0 <= from && to <= n.1);
-            out.sub_ok[k] = !held && proves(check, from, to, l) != 0;
-            from = to;
-        }
+        patches,
     }
-    // Proven nodes become patches of their own, numbered after the pieces.
-    for (a, b, m) in nodes {
-        let id = out.patches.len() as u32;
-        out.patches.push(m);
-        let mut from = 0;
-        for (k, &e) in lay.ends.iter().enumerate() {
-            let to = e as usize - start;
-            if a <= from && to <= b {
-                out.sub_patch[k] = id;
-            }
-            from = to;
-        }
-    }
-    out
 }
 
 /// Entries past the last polygon in [`SelfPrep`]'s per-polygon arrays that
@@ -440,16 +372,14 @@ pub struct SelfPrep {
     /// Patch certificates ([`crate::geom::patch`]; triangle meshes with consistently
     /// oriented edges). A patch is one connected piece (by shared edges) of one leaf; each
     /// sub-leaf lies in one patch (`sub_patch`). Per patch: its usable projections
-    /// ([`turn_mask`]; 0: not proven) when it is proven free of self-intersection; per
-    /// polygon its patch; per sub-leaf whether it is proven on its own (in unproven
-    /// patches). Two patches are not tried together (their union's loop cost more than the
+    /// ([`turn_mask`]; 0: not proven) when it is proven free of self-intersection. Parts
+    /// of pieces are not tried ([`PieceLayout`]), nor two patches together (their union's loop cost more than the
     /// pairs it saved once the fans decide neighbour pairs: rolled cloth 28.7 -> 23.8-25.6
     /// ms, rods 62-64 -> 61, cloth-funnel 5.5-5.7 -> 4.8-4.9, armadillo 9.8-10.2 -> 8.6-8.7).
     sub_patch: Vec<u32>,
     patch_cert: Vec<u8>,
     /// Per leaf-order triangle: [`turn_mask`].
     turns: Vec<u8>,
-    sub_cert: Vec<bool>,
     /// The layout of each leaf ([`LeafLayout`]), each polygon's piece within its leaf, and
     /// the mesh (id, polygons, leaves) they were made for.
     layouts: Vec<LeafLayout>,
@@ -467,8 +397,6 @@ pub struct SelfPrep {
     pub certified_fans: usize,
     /// Patches proven by their certificate in the last [`SelfPrep::make`].
     pub certified_patches: usize,
-    /// Sub-leaves proven on their own (in patches not proven whole).
-    pub certified_subs: usize,
     /// Leaf pairs `(i, j)`, `i <= j`, whose boxes meet once grown by `h`, sorted: the
     /// units of work of [`self_pairs`] (callers may split them between threads).
     pub leaf_pairs: Vec<(u32, u32)>,
@@ -558,16 +486,13 @@ impl SelfPrep {
             Vec::new()
         };
         self.sub_patch.clear();
-        self.sub_cert.clear();
         self.patch_cert.clear();
-        (self.certified_patches, self.certified_subs) = (0, 0);
+        self.certified_patches = 0;
         if !certify {
             // No certificate: every leaf one unproven patch.
             for (l, lay) in self.layouts.iter().enumerate() {
                 self.sub_patch
                     .extend(std::iter::repeat_n(l as u32, lay.ends.len()));
-                self.sub_cert
-                    .extend(std::iter::repeat_n(false, lay.ends.len()));
                 self.patch_cert.push(0);
             }
         }
@@ -575,8 +500,6 @@ impl SelfPrep {
             let first = self.patch_cert.len() as u32;
             self.sub_patch
                 .extend(out.sub_patch.iter().map(|&c| c + first));
-            self.certified_subs += out.sub_ok.iter().filter(|&&x| x).count();
-            self.sub_cert.extend(out.sub_ok);
             self.certified_patches += out.patches.iter().filter(|&&pr| pr != 0).count();
             self.patch_cert.extend(out.patches);
         }
@@ -681,10 +604,7 @@ impl SelfPrep {
         let edge = |e: &mut u32| *e = 3 * pos_of[*e as usize / 3] + *e % 3;
         for lay in &mut self.layouts {
             for piece in &mut lay.pieces {
-                let loops = std::iter::once(&mut piece.boundary)
-                    .chain(piece.nodes.iter_mut().map(|(_, l)| l))
-                    .chain(piece.sub_loops.iter_mut());
-                for l in loops.flatten() {
+                if let Some(l) = &mut piece.boundary {
                     l.edges.iter_mut().for_each(edge);
                 }
             }
@@ -904,8 +824,6 @@ pub struct AllStats {
     /// Self-collision patch certificates ([`crate::geom::patch`]): patches (connected
     /// pieces of leaves) proven free of self-intersection.
     pub self_cert_patches: usize,
-    /// Sub-leaves proven so on their own (in patches not proven whole).
-    pub self_cert_subs: usize,
     /// Sorting and merging the answer, ns.
     pub merge_nanos: u64,
 }
@@ -954,11 +872,10 @@ pub fn self_pairs(
     let exact = h == 0.0;
     let mut fans = 0;
     for &(i, j) in leaf_pairs {
-        // Two sub-leaves are proven together when they lie in one proven patch, or are one
-        // sub-leaf proven on its own.
+        // Two sub-leaves are proven together when they lie in one proven patch.
         let proven_subs = |a: usize, b: usize| {
             let (pa, pb) = (prep.sub_patch[a], prep.sub_patch[b]);
-            pa == pb && (prep.patch_cert[pa as usize] != 0 || (a == b && prep.sub_cert[a]))
+            pa == pb && prep.patch_cert[pa as usize] != 0
         };
         // Proven patches meet only where they share, and so do two triangles around a
         // vertex whose fan is proven: such neighbours need no decision.
