@@ -194,8 +194,8 @@ impl Planner {
         // By one 128-bit key: the order of `Pair` (mesh_a, polygon_a, mesh_b, polygon_b),
         // the whole pair in one integer, made once per pair and sorted as integers (sorting
         // the pairs by a key made at each comparison took 2 ms for the 78,000 pairs of a
-        // crumpled cloth), on the workers when there are some. (A stable sort, to merge the
-        // mesh pairs' sorted runs, was slower: the runs are short.)
+        // crumpled cloth), by radix ([`super::sort`]). (A stable sort, to merge the mesh
+        // pairs' sorted runs, was slower: the runs are short.)
         let keys = &mut self.merge_keys;
         keys.clear();
         keys.extend(out.iter().map(|p| {
@@ -204,13 +204,7 @@ impl Planner {
                 | (u128::from(p.mesh_b) << 32)
                 | u128::from(p.polygon_b)
         }));
-        match &self.workers.pool {
-            Some(pool) if keys.len() >= 1 << 14 => pool.install(|| {
-                use rayon::prelude::*;
-                keys.par_sort_unstable()
-            }),
-            _ => keys.sort_unstable(),
-        }
+        super::sort::sort_keys(keys, &mut self.merge_scratch);
         keys.dedup();
         out.clear();
         out.extend(keys.iter().map(|&k| Pair {

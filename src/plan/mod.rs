@@ -19,6 +19,7 @@
 mod all;
 mod continuous;
 mod geometry;
+mod sort;
 mod workers;
 
 use std::collections::BTreeMap;
@@ -43,8 +44,9 @@ pub(crate) struct Planner {
     broad: BroadPhase,
     /// The self-colliding meshes made ready for the query, kept from query to query.
     self_preps: Vec<SelfPrep>,
-    /// The whole-scene answer's pairs as sort keys (scratch of the merge).
+    /// The whole-scene answer's pairs as sort keys, and the sort's scratch.
     merge_keys: Vec<u128>,
+    merge_scratch: Vec<u128>,
     /// Stages of the last whole-scene query.
     all_stats: AllStats,
     /// The continuous query's meshes over the step, leaf pairs and broad-phase scratch,
@@ -65,6 +67,7 @@ impl Planner {
             broad: BroadPhase::default(),
             self_preps: Vec::new(),
             merge_keys: Vec::new(),
+            merge_scratch: Vec::new(),
             all_stats: AllStats::default(),
             swept: Vec::new(),
             leaf_pairs: Vec::new(),
