@@ -315,6 +315,16 @@ pub(crate) struct TriLanes([[[f64; LANES]; 3]; 3]);
 impl TriLanes {
     pub(crate) const ZERO: TriLanes = TriLanes([[[0.0; LANES]; 3]; 3]);
 
+    /// The triangles `t` in lanes.
+    #[cfg(test)]
+    pub(crate) fn of(t: &[[P3; 3]; LANES]) -> TriLanes {
+        let mut v = TriLanes::ZERO;
+        for (l, t) in t.iter().enumerate() {
+            v.set(l, t);
+        }
+        v
+    }
+
     /// Lane `l`'s triangle becomes `t`.
     #[inline(always)]
     pub(crate) fn set(&mut self, l: usize, t: &[P3; 3]) {
@@ -329,6 +339,16 @@ impl TriLanes {
     #[inline(always)]
     pub(crate) fn get(&self, l: usize) -> [P3; 3] {
         [0, 1, 2].map(|k| [self.0[k][0][l], self.0[k][1][l], self.0[k][2][l]])
+    }
+
+    /// Lane `l` becomes lane 0's triangle for every `l` from `n` on (padding: lanes whose
+    /// answers are dropped).
+    #[inline]
+    pub(crate) fn pad(&mut self, n: usize) {
+        let t = self.get(0);
+        for l in n..LANES {
+            self.set(l, &t);
+        }
     }
 
     /// The lanes as vectors.
@@ -401,42 +421,6 @@ pub(crate) fn transpose2(r0: F, r1: F) -> [__m128d; 4] {
             _mm256_castpd256_pd128(hi),
             _mm256_extractf128_pd::<1>(lo),
             _mm256_extractf128_pd::<1>(hi),
-        ]
-    }
-}
-
-/// The three vertices of each lane's triangle, as lanes.
-///
-/// # Safety
-/// The CPU has AVX2 and FMA.
-#[inline(always)]
-pub(crate) unsafe fn load(t: &[[P3; 3]; LANES]) -> [W; 3] {
-    let mut v = [[[0.0; LANES]; 3]; 3];
-    for (l, t) in t.iter().enumerate() {
-        for k in 0..3 {
-            for m in 0..3 {
-                v[k][m][l] = t[k][m];
-            }
-        }
-    }
-    // SAFETY: the caller's promise.
-    unsafe {
-        [
-            W {
-                x: F::new(v[0][0]),
-                y: F::new(v[0][1]),
-                z: F::new(v[0][2]),
-            },
-            W {
-                x: F::new(v[1][0]),
-                y: F::new(v[1][1]),
-                z: F::new(v[1][2]),
-            },
-            W {
-                x: F::new(v[2][0]),
-                y: F::new(v[2][1]),
-                z: F::new(v[2][2]),
-            },
         ]
     }
 }

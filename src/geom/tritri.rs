@@ -765,6 +765,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn four_lanes_decide_as_the_exact_test() {
+        use crate::geom::lanes::TriLanes;
         if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
             return;
         }
@@ -786,7 +787,7 @@ mod tests {
             let a: [[P3; 3]; 4] = [pair(), pair(), pair(), pair()];
             let b: [[P3; 3]; 4] = [pair(), pair(), pair(), pair()];
             // SAFETY: AVX2 and FMA checked above.
-            let (d, m) = unsafe { four::intersect(&a, &b) };
+            let (d, m) = unsafe { four::intersect(&TriLanes::of(&a), &TriLanes::of(&b)) };
             for l in 0..4 {
                 let want = triangles_intersect(&a[l], &b[l]);
                 total[kind] += 1;

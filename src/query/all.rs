@@ -1016,17 +1016,16 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
 #[cfg(target_arch = "x86_64")]
 impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> {
     #[inline]
-    fn triangles(&mut self, (p, q): (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+    fn triangles(&mut self, (p, q): (u32, u32)) -> Option<[&[P3; 3]; 2]> {
         if let Some(t) = self.tris {
             let (tp, tq) = (&t[p as usize], &t[q as usize]);
             // Both in one coordinate plane (a flat sheet, a box, a floor): every
             // orientation in the lanes would be 0, so straight to the scalar test's 2D
             // decision.
             if self.h == 0.0 && shared_axis_plane(tp, tq).is_some() {
-                return false;
+                return None;
             }
-            (*a, *b) = (*tp, *tq);
-            return true;
+            return Some([tp, tq]);
         }
         let (m, order) = (self.m, self.order);
         let ip = self
@@ -1035,7 +1034,7 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
         let iq = self
             .prepared
             .get(q as usize, || prepared(m, order[q as usize] as usize));
-        self.prepared.made[ip].triangle_pair(&self.prepared.made[iq], a, b)
+        self.prepared.made[ip].triangle_pair(&self.prepared.made[iq])
     }
     #[inline]
     fn scalar(&mut self, key: (u32, u32)) -> bool {

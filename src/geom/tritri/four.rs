@@ -11,8 +11,7 @@
 //! exact one, and the same as [`super::triangles_intersect`]'s.
 
 use super::PLANE_SLACK;
-use crate::geom::lanes::{load, sel3w, Plane, LANES, M, W};
-use crate::geom::predicates::P3;
+use crate::geom::lanes::{sel3w, Plane, TriLanes, LANES, M, W};
 
 /// What the exact test asks of a plane.
 impl Plane {
@@ -54,16 +53,17 @@ fn lonely(p: [M; 3]) -> (M, M) {
     (m0, m1)
 }
 
-/// Pair `l` is `(a[l], b[l])`. Returns (decided, meets) as lane bit masks: bit `l` of
-/// `decided` when lane `l`'s answer was certain here, bit `l` of `meets` when, moreover,
-/// the closed triangles intersect. Undecided lanes need the scalar exact test.
+/// Pair `l` is (lane `l` of `a`, lane `l` of `b`). Returns (decided, meets) as lane bit
+/// masks: bit `l` of `decided` when lane `l`'s answer was certain here, bit `l` of `meets`
+/// when, moreover, the closed triangles intersect. Undecided lanes need the scalar exact
+/// test.
 ///
 /// # Safety
 /// The CPU has AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn intersect(a: &[[P3; 3]; LANES], b: &[[P3; 3]; LANES]) -> (u32, u32) {
+pub(crate) unsafe fn intersect(a: &TriLanes, b: &TriLanes) -> (u32, u32) {
     // SAFETY: the caller's promise.
-    let (ta, tb) = unsafe { (load(a), load(b)) };
+    let (ta, tb) = unsafe { (a.load(), b.load()) };
     intersect_lanes(&ta, &tb)
 }
 
