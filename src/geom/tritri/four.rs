@@ -9,16 +9,19 @@
 //! (a vertex on or near the other's plane, a flat triangle, an orientation within its
 //! error bound) is left undecided, for the scalar exact test: so the answer is always the
 //! exact one, and the same as [`super::triangles_intersect`]'s.
+//!
+//! The kernel's body ([`intersect_lanes`]) is written for any lane width ([`Float`]), with
+//! the same operations in each lane whatever the width.
 
 use super::PLANE_SLACK;
-use crate::geom::lanes::{sel3w, Plane, TriLanes, LANES, M, W};
+use crate::geom::lanes::{sel3w, Float, Mask, Plane, TriLanes, W};
 
 /// What the exact test asks of a plane.
-impl Plane {
+impl<T: Float> Plane<T> {
     /// Per point: (certainly `orient3d < 0`, certainly `orient3d > 0`), as
     /// [`super::Plane::side`] answers -1 and 1.
     #[inline(always)]
-    fn certain_side(&self, p: &W) -> (M, M) {
+    fn certain_side(&self, p: &W<T>) -> (T::Mask, T::Mask) {
         let (s, scale) = self.distance(p);
         let bound = self.o.x.like(PLANE_SLACK) * scale;
         (s.gt(bound), s.lt(-bound))
@@ -28,7 +31,7 @@ impl Plane {
 /// `orient3d(a, b, c, d)` where the static filter certifies its sign: (certainly
 /// negative, certainly positive).
 #[inline(always)]
-fn orient3d(a: &W, b: &W, c: &W, d: &W) -> (M, M) {
+fn orient3d<T: Float>(a: &W<T>, b: &W<T>, c: &W<T>, d: &W<T>) -> (T::Mask, T::Mask) {
     // (7 + 56 eps) eps, eps = 2^-53: Shewchuk's `o3derrboundA`, as in predicates.rs.
     const EPS: f64 = 0.000_000_000_000_000_111_022_302_462_515_65;
     const BOUND_A: f64 = (7.0 + 56.0 * EPS) * EPS;
@@ -47,7 +50,7 @@ fn orient3d(a: &W, b: &W, c: &W, d: &W) -> (M, M) {
 /// The vertex alone on its side, from the three "positive" masks of mixed signs:
 /// (vertex 0, vertex 1; neither: vertex 2).
 #[inline(always)]
-fn lonely(p: [M; 3]) -> (M, M) {
+fn lonely<M: Mask>(p: [M; 3]) -> (M, M) {
     let m0 = p[1].xor(p[2]).not();
     let m1 = m0.not().and(p[0].xor(p[2]).not());
     (m0, m1)
@@ -77,28 +80,29 @@ pub(crate) unsafe fn intersect_loaded(ta: &[W; 3], tb: &[W; 3]) -> (u32, u32) {
     intersect_lanes(ta, tb)
 }
 
-/// [`intersect`]'s body.
+/// [`intersect`]'s body, for any lane width (lane `l`: the pair of the triangles in lane
+/// `l` of `ta` and `tb`).
 #[inline(always)]
-fn intersect_lanes(ta: &[W; 3], tb: &[W; 3]) -> (u32, u32) {
-    const ALL: u32 = (1 << LANES) - 1;
+fn intersect_lanes<T: Float>(ta: &[W<T>; 3], tb: &[W<T>; 3]) -> (u32, u32) {
+    let all: u32 = (1 << T::LANES) - 1;
     // Signs of orient3d(a, b_k) and orient3d(b, a_k): (negative, positive) where certain.
     // Most box-overlapping pairs of two bodies are apart, most often with one triangle on
-    // one side of the other's plane: a batch whose four pairs all are returns at once.
+    // one side of the other's plane: a batch whose pairs all are returns at once.
     let pa = Plane::of(ta);
     let (bn0, bp0) = pa.certain_side(&tb[0]);
     let (bn1, bp1) = pa.certain_side(&tb[1]);
     let (bn2, bp2) = pa.certain_side(&tb[2]);
     let apart_b = bn0.and(bn1).and(bn2).or(bp0.and(bp1).and(bp2));
-    if apart_b.bits() == ALL {
-        return (ALL, 0);
+    if apart_b.bits() == all {
+        return (all, 0);
     }
     let pb = Plane::of(tb);
     let (an0, ap0) = pb.certain_side(&ta[0]);
     let (an1, ap1) = pb.certain_side(&ta[1]);
     let (an2, ap2) = pb.certain_side(&ta[2]);
     let apart = apart_b.or(an0.and(an1).and(an2)).or(ap0.and(ap1).and(ap2));
-    if apart.bits() == ALL {
-        return (ALL, 0);
+    if apart.bits() == all {
+        return (all, 0);
     }
     let certain = bn0
         .or(bp0)

@@ -28,7 +28,7 @@
 //! lane is at least `~1e-7 R` from the volume's boundary, where the scalar path's rounding
 //! cannot change its answer.
 
-use crate::geom::lanes::{TriLanes, F, LANES, M, W};
+use crate::geom::lanes::{Float, Mask, TriLanes, F, LANES, M, W};
 
 /// Margin of a corner's place against the slab, relative to `R`.
 const TOL_W: f64 = 1e-6;
