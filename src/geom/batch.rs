@@ -1,8 +1,9 @@
-//! Triangle pairs gathered four at a time for a lane kernel: the exact test
-//! ([`crate::geom::tritri::four::intersect`], epsilon 0) or the band test
-//! ([`crate::geom::volume::four::band`], epsilon > 0). Each kernel decides the lanes whose
-//! answer floating point certifies; the caller's scalar test ([`Judge::scalar`]) decides
-//! the others, so the answers are the scalar path's.
+//! Triangle pairs gathered into lanes for a kernel: the exact test (epsilon 0) eight at a
+//! time on a CPU with AVX-512F ([`crate::geom::tritri::eight::intersect`]), four at a
+//! time on one with AVX2 and FMA only ([`crate::geom::tritri::four::intersect`]); the band
+//! test (epsilon > 0, [`crate::geom::volume::four::band`]) four at a time. Each kernel
+//! decides the lanes whose answer floating point certifies; the caller's scalar test
+//! ([`Judge::scalar`]) decides the others, so the answers are the scalar path's.
 //!
 //! The pairs' triangles are written straight into lanes ([`TriLanes`]: each coordinate
 //! stored once, where the kernel loads it), and a batch's answers are read from its masks
@@ -21,21 +22,21 @@ pub(crate) enum Kernel {
     Band { h: f64, both: bool },
 }
 
-/// Pairs gathered for one run of a kernel: lane `l` is the pair of the triangles in lane
-/// `l` of `a` and `b`, named `at[l]`; the first `n` lanes are in use.
-struct Batch<K> {
-    a: TriLanes,
-    b: TriLanes,
-    at: [K; LANES],
+/// Pairs gathered for one run of a kernel of `N` lanes: lane `l` is the pair of the
+/// triangles in lane `l` of `a` and `b`, named `at[l]`; the first `n` lanes are in use.
+struct Batch<K, const N: usize> {
+    a: TriLanes<N>,
+    b: TriLanes<N>,
+    at: [K; N],
     n: usize,
 }
 
-impl<K: Copy + Default> Batch<K> {
-    fn new() -> Batch<K> {
+impl<K: Copy + Default, const N: usize> Batch<K, N> {
+    fn new() -> Batch<K, N> {
         Batch {
             a: TriLanes::ZERO,
             b: TriLanes::ZERO,
-            at: [K::default(); LANES],
+            at: [K::default(); N],
             n: 0,
         }
     }
@@ -47,7 +48,7 @@ impl<K: Copy + Default> Batch<K> {
         self.b.set(self.n, b);
         self.at[self.n] = key;
         self.n += 1;
-        self.n == LANES
+        self.n == N
     }
 
     /// Unused lanes repeat the first (their answers are dropped).
@@ -75,8 +76,10 @@ impl<K: Copy + Default> Batch<K> {
     }
 }
 
-/// Triangle pairs gathered four at a time for a [`Kernel`]. A value exists only on a CPU
-/// with AVX2 and FMA ([`Fours::new`] checks), so its methods are safe.
+/// Triangle pairs gathered into lanes for a [`Kernel`] (four at a time, or eight for the
+/// exact test on a CPU with AVX-512F). A value exists only on a CPU with AVX2 and FMA
+/// ([`Fours::new`] checks; and it runs the eight-lane kernel only where AVX-512F was
+/// found), so its methods are safe.
 ///
 /// The band test runs in two stages: a cheap test of every batch
 /// ([`band_far`](crate::geom::volume::four::band_far): corners beyond one plane of a
@@ -85,18 +88,30 @@ impl<K: Copy + Default> Batch<K> {
 /// and the whole test costs several times the cheap one).
 pub(crate) struct Fours<K: Copy + Default> {
     kernel: Kernel,
-    /// The exact test's batches; the band test's first stage.
-    first: Batch<K>,
+    /// The exact test runs on eight lanes (the CPU has AVX-512F).
+    eight: bool,
+    /// The exact test's batches on eight lanes.
+    wide: Batch<K, 8>,
+    /// The exact test's batches on four lanes; the band test's first stage.
+    first: Batch<K, LANES>,
     /// The band test's second stage.
-    second: Batch<K>,
+    second: Batch<K, LANES>,
 }
 
 impl<K: Copy + Default> Fours<K> {
     /// `None` on a CPU without AVX2 and FMA.
     pub(crate) fn new(kernel: Kernel) -> Option<Fours<K>> {
+        let eight = std::is_x86_feature_detected!("avx512f");
+        Fours::with(kernel, eight)
+    }
+
+    /// [`Fours::new`], on eight lanes only when `eight` and the CPU has AVX-512F.
+    fn with(kernel: Kernel, eight: bool) -> Option<Fours<K>> {
         (std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")).then(|| {
             Fours {
                 kernel,
+                eight: eight && std::is_x86_feature_detected!("avx512f"),
+                wide: Batch::new(),
                 first: Batch::new(),
                 second: Batch::new(),
             }
@@ -107,16 +122,23 @@ impl<K: Copy + Default> Fours<K> {
     /// batches, so not quite in the order of `keys`).
     #[inline]
     pub(crate) fn decide(&mut self, keys: impl Iterator<Item = K>, judge: &mut impl Judge<K>) {
-        use crate::geom::tritri::four;
+        use crate::geom::tritri::{eight, four};
         use crate::geom::volume::four::{band, band_far};
         let Fours {
             kernel,
+            eight: on_eight,
+            wide,
             first,
             second,
         } = self;
         match *kernel {
+            Kernel::Exact if *on_eight => gather(wide, keys, judge, |b, judge| {
+                // SAFETY: the CPU has AVX-512F (`eight` is set only then, `with`).
+                let (decided, meets) = unsafe { eight::intersect(&b.a, &b.b) };
+                b.answer(decided, meets, judge);
+            }),
             Kernel::Exact => gather(first, keys, judge, |b, judge| {
-                // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`new`).
+                // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`with`).
                 let (decided, meets) = unsafe { four::intersect(&b.a, &b.b) };
                 b.answer(decided, meets, judge);
             }),
@@ -150,11 +172,11 @@ impl<K: Copy + Default> Fours<K> {
 /// each full batch and on the last one (padded), which it empties; the other pairs by the
 /// scalar test.
 #[inline(always)]
-fn gather<K: Copy + Default, J: Judge<K>>(
-    b: &mut Batch<K>,
+fn gather<K: Copy + Default, const N: usize, J: Judge<K>>(
+    b: &mut Batch<K, N>,
     keys: impl Iterator<Item = K>,
     judge: &mut J,
-    mut run: impl FnMut(&mut Batch<K>, &mut J),
+    mut run: impl FnMut(&mut Batch<K, N>, &mut J),
 ) {
     for key in keys {
         match judge.triangles(key) {
@@ -242,23 +264,30 @@ mod tests {
 
     /// The whole path (gathering, the lanes, the scalar test for the lanes left undecided
     /// and for quads, the last batch padded) finds what the scalar test finds, each pair
-    /// once: the exact test and the band test, over a number of pairs that is not a
-    /// multiple of four.
+    /// once: the exact test on eight lanes (where the CPU has AVX-512F) and on four, and
+    /// the band test, over a number of pairs that is not a multiple of eight.
     #[test]
     fn decides_as_the_scalar_test() {
         let mut rng = Rng(0x0BA7_C4E5_u64);
         let pairs: Vec<_> = (0..4_001).map(|i| pair(&mut rng, i % 3)).collect();
-        for kernel in [
-            Kernel::Exact,
-            Kernel::Band {
-                h: 0.01,
-                both: true,
-            },
+        for (kernel, eight) in [
+            (Kernel::Exact, true),
+            (Kernel::Exact, false),
+            (
+                Kernel::Band {
+                    h: 0.01,
+                    both: true,
+                },
+                false,
+            ),
         ] {
-            let Some(mut fours) = Fours::new(kernel) else {
+            let Some(mut fours) = Fours::with(kernel, eight) else {
                 println!("no AVX2 and FMA: the lanes are not used");
                 return;
             };
+            if eight && !fours.eight {
+                println!("no AVX-512F: the exact test on four lanes only");
+            }
             let band = match kernel {
                 Kernel::Exact => None,
                 Kernel::Band { h, .. } => Some(h),
@@ -274,11 +303,12 @@ mod tests {
             fours.decide(0..pairs.len(), &mut judge);
             let mut found = std::mem::take(&mut judge.found);
             found.sort_unstable();
-            assert_eq!(found, want, "{kernel:?}");
+            assert_eq!(found, want, "{kernel:?}, eight lanes: {}", fours.eight);
             // The lanes decided most pairs, and left some (and the quads) to the scalar
             // test.
             println!(
-                "{kernel:?}: {} of {} pairs meet, {} by the scalar test",
+                "{kernel:?} (eight lanes: {}): {} of {} pairs meet, {} by the scalar test",
+                fours.eight,
                 want.len(),
                 pairs.len(),
                 judge.scalar

@@ -10,9 +10,10 @@
 //! the scalar code it copies. A kernel must not use closures: a closure is compiled as its
 //! own function, without AVX2, and every intrinsic in it then becomes a call.
 //!
-//! A kernel written for any lane width ([`crate::geom::tritri::four`]'s exact test) is
-//! written with the traits [`Float`] and [`Mask`], which these types implement, and with
-//! [`W`] and [`Plane`] over them.
+//! A kernel written for any lane width ([`crate::geom::tritri::four`]'s exact test, which
+//! runs on eight AVX-512 lanes too) is written with the traits [`Float`] and [`Mask`],
+//! which these types and those of [`super::lanes8`] implement, and with [`W`] and
+//! [`Plane`] over them.
 
 use std::arch::x86_64::*;
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -22,9 +23,9 @@ use super::predicates::P3;
 /// Lanes per vector.
 pub(crate) const LANES: usize = 4;
 
-/// What a kernel written for any lane width asks of a vector of `f64` lanes (such as
-/// [`F`]): each operation one IEEE operation per lane, the same whatever the width, so the
-/// kernel gives the same lanes the same answers.
+/// What a kernel written for any lane width asks of a vector of `f64` lanes ([`F`], or
+/// [`super::lanes8::F8`]): each operation one IEEE operation per lane, the same whatever the
+/// width, so the kernel gives the same lanes the same answers.
 pub(crate) trait Float:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
 {
@@ -347,20 +348,23 @@ impl W {
     }
 }
 
-/// Four triangles stored lane by lane (vertex, coordinate, lane): what a kernel loads as
-/// [`W`]s with one aligned load per coordinate. Filled one triangle at a time by whoever
-/// gathers the batch (each coordinate stored once, where the kernel reads it), rather than
-/// as `[[P3; 3]; 4]` copied into lanes through the stack.
+/// `N` triangles (four unless said otherwise) stored lane by lane (vertex, coordinate,
+/// lane): what a kernel loads as [`W`]s with one aligned load per coordinate. Filled one
+/// triangle at a time by whoever gathers the batch (each coordinate stored once, where the
+/// kernel reads it), rather than as `[[P3; 3]; N]` copied into lanes through the stack.
+/// Each row of `N` lanes starts at a multiple of `8 N` bytes from the start, which is
+/// aligned to 64 bytes: a row of four or eight lanes is aligned for a 256-bit or 512-bit
+/// load.
 #[derive(Clone, Copy)]
-#[repr(C, align(32))]
-pub(crate) struct TriLanes([[[f64; LANES]; 3]; 3]);
+#[repr(C, align(64))]
+pub(crate) struct TriLanes<const N: usize = LANES>(pub(super) [[[f64; N]; 3]; 3]);
 
-impl TriLanes {
-    pub(crate) const ZERO: TriLanes = TriLanes([[[0.0; LANES]; 3]; 3]);
+impl<const N: usize> TriLanes<N> {
+    pub(crate) const ZERO: TriLanes<N> = TriLanes([[[0.0; N]; 3]; 3]);
 
     /// The triangles `t` in lanes.
     #[cfg(test)]
-    pub(crate) fn of(t: &[[P3; 3]; LANES]) -> TriLanes {
+    pub(crate) fn of(t: &[[P3; 3]; N]) -> TriLanes<N> {
         let mut v = TriLanes::ZERO;
         for (l, t) in t.iter().enumerate() {
             v.set(l, t);
@@ -389,11 +393,13 @@ impl TriLanes {
     #[inline]
     pub(crate) fn pad(&mut self, n: usize) {
         let t = self.get(0);
-        for l in n..LANES {
+        for l in n..N {
             self.set(l, &t);
         }
     }
+}
 
+impl TriLanes {
     /// The lanes as vectors.
     ///
     /// # Safety
@@ -410,8 +416,8 @@ impl TriLanes {
     #[inline(always)]
     unsafe fn vertex(&self, k: usize) -> W {
         let v = &self.0[k];
-        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (the
-        // type's alignment, rows at multiples of 32 bytes).
+        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (rows at
+        // multiples of 32 bytes from the start, which the type aligns to 64).
         unsafe {
             W {
                 x: F(_mm256_load_pd(v[0].as_ptr())),

@@ -10,8 +10,9 @@
 //! error bound) is left undecided, for the scalar exact test: so the answer is always the
 //! exact one, and the same as [`super::triangles_intersect`]'s.
 //!
-//! The kernel's body ([`intersect_lanes`]) is written for any lane width ([`Float`]), with
-//! the same operations in each lane whatever the width.
+//! The kernel's body ([`intersect_lanes`]) is written for any lane width ([`Float`]):
+//! [`super::eight`] runs it on eight AVX-512 lanes, with the same operations in each lane,
+//! so a pair gets the same answer (decided or not) at either width.
 
 use super::PLANE_SLACK;
 use crate::geom::lanes::{sel3w, Float, Mask, Plane, TriLanes, W};
@@ -83,7 +84,7 @@ pub(crate) unsafe fn intersect_loaded(ta: &[W; 3], tb: &[W; 3]) -> (u32, u32) {
 /// [`intersect`]'s body, for any lane width (lane `l`: the pair of the triangles in lane
 /// `l` of `ta` and `tb`).
 #[inline(always)]
-fn intersect_lanes<T: Float>(ta: &[W<T>; 3], tb: &[W<T>; 3]) -> (u32, u32) {
+pub(super) fn intersect_lanes<T: Float>(ta: &[W<T>; 3], tb: &[W<T>; 3]) -> (u32, u32) {
     let all: u32 = (1 << T::LANES) - 1;
     // Signs of orient3d(a, b_k) and orient3d(b, a_k): (negative, positive) where certain.
     // Most box-overlapping pairs of two bodies are apart, most often with one triangle on
