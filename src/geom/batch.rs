@@ -121,7 +121,11 @@ impl<K: Copy + Default> Fours<K> {
     /// Every pair of `keys`: `judge.found` for each that meets (the scalar test's answer; in
     /// batches, so not quite in the order of `keys`).
     #[inline]
-    pub(crate) fn decide(&mut self, keys: impl Iterator<Item = K>, judge: &mut impl Judge<K>) {
+    pub(crate) fn decide(
+        &mut self,
+        keys: impl Iterator<Item = K> + Clone,
+        judge: &mut impl Judge<K>,
+    ) {
         use crate::geom::tritri::{eight, four};
         use crate::geom::volume::four::{band, band_far};
         let Fours {
@@ -174,11 +178,18 @@ impl<K: Copy + Default> Fours<K> {
 #[inline(always)]
 fn gather<K: Copy + Default, const N: usize, J: Judge<K>>(
     b: &mut Batch<K, N>,
-    keys: impl Iterator<Item = K>,
+    keys: impl Iterator<Item = K> + Clone,
     judge: &mut J,
     mut run: impl FnMut(&mut Batch<K, N>, &mut J),
 ) {
+    // The pair this many ahead is announced ([`Judge::prefetch`]): its triangles are
+    // fetched from memory while the pairs before it are gathered and tested.
+    const AHEAD: usize = 16;
+    let mut ahead = keys.clone().skip(AHEAD);
     for key in keys {
+        if let Some(next) = ahead.next() {
+            judge.prefetch(next);
+        }
         match judge.triangles(key) {
             Some([ta, tb]) => {
                 if b.push(key, ta, tb) {
@@ -209,6 +220,11 @@ pub(crate) trait Judge<K> {
     fn scalar(&mut self, key: K) -> bool;
     /// A pair that meets.
     fn found(&mut self, key: K);
+    /// A hint: pair `key` comes soon (its triangles might be fetched into the cache).
+    #[inline(always)]
+    fn prefetch(&self, key: K) {
+        let _ = key;
+    }
 }
 
 #[cfg(test)]
