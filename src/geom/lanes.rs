@@ -43,6 +43,8 @@ pub(crate) trait Float:
     fn gt(self, y: Self) -> Self::Mask {
         y.lt(self)
     }
+    /// `self == y` per lane (ordered: false where either is NaN).
+    fn eq(self, y: Self) -> Self::Mask;
 }
 
 /// The lane masks of a [`Float`] (set or clear per lane).
@@ -153,12 +155,6 @@ impl F {
     }
 
     #[inline(always)]
-    pub(crate) fn eq(self, y: F) -> M {
-        // SAFETY: the invariant.
-        unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
-    }
-
-    #[inline(always)]
     pub(crate) fn ge(self, y: F) -> M {
         y.le(self)
     }
@@ -184,6 +180,12 @@ impl Float for F {
     fn lt(self, y: F) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn eq(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
     }
 }
 

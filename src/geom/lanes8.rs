@@ -44,6 +44,12 @@ impl Float for F8 {
         // SAFETY: the invariant.
         unsafe { M8(_mm512_cmp_pd_mask::<_CMP_LT_OQ>(self.0, y.0)) }
     }
+
+    #[inline(always)]
+    fn eq(self, y: F8) -> M8 {
+        // SAFETY: the invariant.
+        unsafe { M8(_mm512_cmp_pd_mask::<_CMP_EQ_OQ>(self.0, y.0)) }
+    }
 }
 
 macro_rules! binary {

@@ -810,10 +810,12 @@ mod tests {
     /// as the exact test, on pairs of every kind mixed in each batch: random (crossing,
     /// apart, near misses), exactly coplanar in a slanted plane, touching (a shared vertex,
     /// a vertex on an edge or on the face, exact), slivers, degenerate triangles (a
-    /// segment, a point, three collinear points), far from the origin (1e7) and at huge
-    /// and tiny scales. Every lane is decided as by the four-lane test (the same kernel),
-    /// and most random pairs whose triangles cross each other's planes (Guigue and
-    /// Devillers' general position) are decided in the lanes.
+    /// segment, a point, three collinear points), far from the origin (1e7), at huge and
+    /// tiny scales, and with an edge of each in one coordinate plane (where the edges
+    /// cross, an orientation of Guigue and Devillers' is exactly 0). Every lane is decided
+    /// as by the four-lane test (the same kernel), and most random pairs whose triangles
+    /// cross each other's planes (Guigue and Devillers' general position) and most pairs
+    /// with edges in one coordinate plane are decided in the lanes.
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn eight_lanes_decide_as_the_exact_test() {
@@ -822,7 +824,7 @@ mod tests {
             println!("no AVX-512F: the eight lanes are not used");
             return;
         }
-        const KINDS: usize = 7;
+        const KINDS: usize = 8;
         let mut rng = crate::geom::test_rng::Rng(0x8E16_7A11_5EED_u64);
         // On a grid of 1/64 in [-1, 1): sums, halves and quarters of these are exact.
         let grid = |rng: &mut crate::geom::test_rng::Rng| -> P3 {
@@ -899,10 +901,24 @@ mod tests {
                     (far(random(rng)), far(random(rng)))
                 }
                 // Huge and tiny.
-                _ => {
+                6 => {
                     let s = [1e-30, 1e-8, 1e8, 1e30][rng.below(4)];
                     let scaled = |t: [P3; 3]| t.map(|p| p.map(|x| x * s));
                     (scaled(random(rng)), scaled(random(rng)))
+                }
+                // An edge of each in one coordinate plane (`x_k = 1/4`), the triangles on
+                // either side of it: they meet exactly where the edges cross (a point).
+                _ => {
+                    let ax = rng.below(3);
+                    let mut p = |side: f64| -> P3 {
+                        let mut p = rng.v(1.0);
+                        p[ax] = 0.25 + side * rng.range(0.01, 0.5);
+                        p
+                    };
+                    let (mut t, mut u) = ([p(-1.0), p(0.0), p(0.0)], [p(0.0), p(0.0), p(1.0)]);
+                    rng.shuffle(&mut t);
+                    rng.shuffle(&mut u);
+                    (t, u)
                 }
             }
         };
@@ -952,7 +968,7 @@ mod tests {
         }
         println!(
             "decided in eight lanes (random, coplanar, touching, sliver, degenerate, far, \
-             scaled): {decided:?} of {total:?}, {meets:?} meet; general \
+             scaled, crossing edges): {decided:?} of {total:?}, {meets:?} meet; general \
              position {general_decided} of {general}"
         );
         // Every kind seen, meeting and apart; most random pairs and most of those in
@@ -962,6 +978,7 @@ mod tests {
             "{meets:?}"
         );
         assert!(decided[0] * 10 > total[0] * 9 && decided[5] * 10 > total[5] * 9);
+        assert!(decided[7] * 10 > total[7] * 9);
         assert!(general > 5_000 && general_decided * 10 > general * 9);
     }
 }

@@ -1,7 +1,8 @@
 //! The exact triangle test of eight pairs at once, on a CPU with AVX-512F: the kernel of
 //! [`super::four`] (the planes' filter of [`super::Plane::side`] with the same bound,
 //! Guigue and Devillers' permutation by blends, Shewchuk's static filter on their two
-//! orientations) on eight lanes of 512-bit vectors, whose blends take mask registers. A
+//! orientations, or their exact zeros by a shared coordinate) on eight lanes of 512-bit
+//! vectors, whose blends take mask registers. A
 //! lane is decided only from signs that are certain, and every other lane (a vertex on or
 //! near the other's plane, a flat triangle, an orientation within its error bound) is left
 //! undecided, for the scalar exact test: so the answer is always the exact one, the same as
