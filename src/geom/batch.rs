@@ -1,10 +1,15 @@
-//! Triangle pairs gathered four at a time for a lane kernel: the exact test
-//! ([`crate::geom::tritri::four::intersect`], epsilon 0) or the band test
-//! ([`crate::geom::volume::four::band`], epsilon > 0). Each kernel decides the lanes whose
-//! answer floating point certifies; the caller's scalar test ([`Judge::scalar`]) decides
-//! the others, so the answers are the scalar path's.
+//! Triangle pairs gathered into lanes for a kernel: the exact test (epsilon 0) eight at a
+//! time on a CPU with AVX-512F ([`crate::geom::tritri::eight::intersect`]), four at a
+//! time on one with AVX2 and FMA only ([`crate::geom::tritri::four::intersect`]); the band
+//! test (epsilon > 0, [`crate::geom::volume::four::band`]) four at a time. Each kernel
+//! decides the lanes whose answer floating point certifies; the caller's scalar test
+//! ([`Judge::scalar`]) decides the others, so the answers are the scalar path's.
+//!
+//! The pairs' triangles are written straight into lanes ([`TriLanes`]: each coordinate
+//! stored once, where the kernel loads it), and a batch's answers are read from its masks
+//! a bit at a time: only the lanes that meet or that the kernel left undecided cost a step.
 
-use crate::geom::lanes::LANES;
+use crate::geom::lanes::{TriLanes, LANES};
 use crate::geom::predicates::P3;
 
 /// Which test the lanes run.
@@ -17,50 +22,64 @@ pub(crate) enum Kernel {
     Band { h: f64, both: bool },
 }
 
-/// Pairs gathered for one run of a kernel: lane `l` is `(a[l], b[l])`, named `at[l]`.
-struct Batch<K> {
-    a: [[P3; 3]; LANES],
-    b: [[P3; 3]; LANES],
-    at: [K; LANES],
+/// Pairs gathered for one run of a kernel of `N` lanes: lane `l` is the pair of the
+/// triangles in lane `l` of `a` and `b`, named `at[l]`; the first `n` lanes are in use.
+struct Batch<K, const N: usize> {
+    a: TriLanes<N>,
+    b: TriLanes<N>,
+    at: [K; N],
     n: usize,
 }
 
-impl<K: Copy + Default> Batch<K> {
-    fn new() -> Batch<K> {
+impl<K: Copy + Default, const N: usize> Batch<K, N> {
+    fn new() -> Batch<K, N> {
         Batch {
-            a: [[[0.0; 3]; 3]; LANES],
-            b: [[[0.0; 3]; 3]; LANES],
-            at: [K::default(); LANES],
+            a: TriLanes::ZERO,
+            b: TriLanes::ZERO,
+            at: [K::default(); N],
             n: 0,
         }
     }
 
-    /// Unused lanes repeat the first (their answers are dropped).
-    fn pad(&mut self) {
-        for l in self.n..LANES {
-            (self.a[l], self.b[l]) = (self.a[0], self.b[0]);
-        }
+    /// Pair `key` of triangles `a` and `b` into the next lane; true when the batch is full.
+    #[inline(always)]
+    fn push(&mut self, key: K, a: &[P3; 3], b: &[P3; 3]) -> bool {
+        self.a.set(self.n, a);
+        self.b.set(self.n, b);
+        self.at[self.n] = key;
+        self.n += 1;
+        self.n == N
     }
 
-    /// `judge.found` for each pair of the batch that meets: the lanes' answer where
-    /// `decided`, the scalar test's elsewhere; the batch emptied.
+    /// Unused lanes repeat the first (their answers are dropped).
+    fn pad(&mut self) {
+        self.a.pad(self.n);
+        self.b.pad(self.n);
+    }
+
+    /// `judge.found` for each pair of the batch that meets, in lane order: the lanes'
+    /// answer where `decided`, the scalar test's elsewhere; the batch emptied. (`meets`
+    /// has no bit outside `decided`.)
+    #[inline]
     fn answer(&mut self, decided: u32, meets: u32, judge: &mut impl Judge<K>) {
-        for l in 0..std::mem::take(&mut self.n) {
+        let n = std::mem::take(&mut self.n);
+        // The lanes that meet, or that only the scalar test can answer.
+        let mut ask = (meets | !decided) & ((1 << n) - 1);
+        while ask != 0 {
+            let l = ask.trailing_zeros() as usize;
+            ask &= ask - 1;
             let key = self.at[l];
-            let yes = if decided & (1 << l) != 0 {
-                meets & (1 << l) != 0
-            } else {
-                judge.scalar(key)
-            };
-            if yes {
+            if decided & (1 << l) != 0 || judge.scalar(key) {
                 judge.found(key);
             }
         }
     }
 }
 
-/// Triangle pairs gathered four at a time for a [`Kernel`]. A value exists only on a CPU
-/// with AVX2 and FMA ([`Fours::new`] checks), so its methods are safe.
+/// Triangle pairs gathered into lanes for a [`Kernel`] (four at a time, or eight for the
+/// exact test on a CPU with AVX-512F). A value exists only on a CPU with AVX2 and FMA
+/// ([`Fours::new`] checks; and it runs the eight-lane kernel only where AVX-512F was
+/// found), so its methods are safe.
 ///
 /// The band test runs in two stages: a cheap test of every batch
 /// ([`band_far`](crate::geom::volume::four::band_far): corners beyond one plane of a
@@ -68,104 +87,250 @@ impl<K: Copy + Default> Batch<K> {
 /// batches for the whole test (most box-overlapping pairs within a thin band are apart,
 /// and the whole test costs several times the cheap one).
 pub(crate) struct Fours<K: Copy + Default> {
-    first: Batch<K>,
-    /// The band test's second stage.
-    second: Batch<K>,
     kernel: Kernel,
+    /// The exact test runs on eight lanes (the CPU has AVX-512F).
+    eight: bool,
+    /// The exact test's batches on eight lanes.
+    wide: Batch<K, 8>,
+    /// The exact test's batches on four lanes; the band test's first stage.
+    first: Batch<K, LANES>,
+    /// The band test's second stage.
+    second: Batch<K, LANES>,
 }
 
 impl<K: Copy + Default> Fours<K> {
     /// `None` on a CPU without AVX2 and FMA.
     pub(crate) fn new(kernel: Kernel) -> Option<Fours<K>> {
+        let eight = std::is_x86_feature_detected!("avx512f");
+        Fours::with(kernel, eight)
+    }
+
+    /// [`Fours::new`], on eight lanes only when `eight` and the CPU has AVX-512F.
+    fn with(kernel: Kernel, eight: bool) -> Option<Fours<K>> {
         (std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")).then(|| {
             Fours {
+                kernel,
+                eight: eight && std::is_x86_feature_detected!("avx512f"),
+                wide: Batch::new(),
                 first: Batch::new(),
                 second: Batch::new(),
-                kernel,
             }
         })
     }
 
-    /// Runs the kernel on the first-stage batch (and on the second when it fills up, or
-    /// at the `end`), answering through `judge`.
-    fn run(&mut self, end: bool, judge: &mut impl Judge<K>) {
-        use crate::geom::tritri::four::intersect;
+    /// Every pair of `keys`: `judge.found` for each that meets (the scalar test's answer; in
+    /// batches, so not quite in the order of `keys`).
+    #[inline]
+    pub(crate) fn decide(
+        &mut self,
+        keys: impl Iterator<Item = K> + Clone,
+        judge: &mut impl Judge<K>,
+    ) {
+        use crate::geom::tritri::{eight, four};
         use crate::geom::volume::four::{band, band_far};
-        let b = &mut self.first;
-        if b.n > 0 {
-            b.pad();
-        }
-        match self.kernel {
-            Kernel::Exact => {
-                if b.n > 0 {
-                    // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`new`).
-                    let (decided, meets) = unsafe { intersect(&b.a, &b.b) };
-                    b.answer(decided, meets, judge);
-                }
-            }
+        let Fours {
+            kernel,
+            eight: on_eight,
+            wide,
+            first,
+            second,
+        } = self;
+        match *kernel {
+            Kernel::Exact if *on_eight => gather(wide, keys, judge, |b, judge| {
+                // SAFETY: the CPU has AVX-512F (`eight` is set only then, `with`).
+                let (decided, meets) = unsafe { eight::intersect(&b.a, &b.b) };
+                b.answer(decided, meets, judge);
+            }),
+            Kernel::Exact => gather(first, keys, judge, |b, judge| {
+                // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`with`).
+                let (decided, meets) = unsafe { four::intersect(&b.a, &b.b) };
+                b.answer(decided, meets, judge);
+            }),
             Kernel::Band { h, both } => {
-                let far = if b.n > 0 {
+                gather(first, keys, judge, |b, judge| {
                     // SAFETY: as above.
-                    unsafe { band_far(&b.a, &b.b, h, both) }
-                } else {
-                    0
-                };
-                let c = &mut self.second;
-                for l in 0..std::mem::take(&mut b.n) {
-                    if far & (1 << l) != 0 {
-                        continue;
+                    let far = unsafe { band_far(&b.a, &b.b, h, both) };
+                    for l in 0..std::mem::take(&mut b.n) {
+                        if far & (1 << l) != 0 {
+                            continue;
+                        }
+                        if second.push(b.at[l], &b.a.get(l), &b.b.get(l)) {
+                            // SAFETY: as above.
+                            let (decided, meets) = unsafe { band(&second.a, &second.b, h, both) };
+                            second.answer(decided, meets, judge);
+                        }
                     }
-                    (c.a[c.n], c.b[c.n], c.at[c.n]) = (b.a[l], b.b[l], b.at[l]);
-                    c.n += 1;
-                    if c.n == LANES {
-                        // SAFETY: as above.
-                        let (decided, meets) = unsafe { band(&c.a, &c.b, h, both) };
-                        c.answer(decided, meets, judge);
-                    }
-                }
-                if end && c.n > 0 {
-                    c.pad();
+                });
+                if second.n > 0 {
+                    second.pad();
                     // SAFETY: as above.
-                    let (decided, meets) = unsafe { band(&c.a, &c.b, h, both) };
-                    c.answer(decided, meets, judge);
+                    let (decided, meets) = unsafe { band(&second.a, &second.b, h, both) };
+                    second.answer(decided, meets, judge);
                 }
             }
         }
+    }
+}
+
+/// Every pair of `keys` whose polygons are both triangles into the lanes of `b`, `run` on
+/// each full batch and on the last one (padded), which it empties; the other pairs by the
+/// scalar test.
+#[inline(always)]
+fn gather<K: Copy + Default, const N: usize, J: Judge<K>>(
+    b: &mut Batch<K, N>,
+    keys: impl Iterator<Item = K> + Clone,
+    judge: &mut J,
+    mut run: impl FnMut(&mut Batch<K, N>, &mut J),
+) {
+    // The pair this many ahead is announced ([`Judge::prefetch`]): its triangles are
+    // fetched from memory while the pairs before it are gathered and tested.
+    const AHEAD: usize = 16;
+    let mut ahead = keys.clone().skip(AHEAD);
+    for key in keys {
+        if let Some(next) = ahead.next() {
+            judge.prefetch(next);
+        }
+        match judge.triangles(key) {
+            Some([ta, tb]) => {
+                if b.push(key, ta, tb) {
+                    run(b, judge);
+                }
+            }
+            None => {
+                if judge.scalar(key) {
+                    judge.found(key);
+                }
+            }
+        }
+    }
+    if b.n > 0 {
+        b.pad();
+        run(b, judge);
     }
 }
 
 /// What [`Fours::decide`] asks of its caller about each pair (named by a key).
 pub(crate) trait Judge<K> {
-    /// When both polygons of the pair are triangles (then the lanes may decide it): writes
-    /// them to `a` and `b` and answers `true`; `false` for a pair with a quad.
-    fn triangles(&mut self, key: K, a: &mut [P3; 3], b: &mut [P3; 3]) -> bool;
+    /// When both polygons of the pair are triangles (then the lanes may decide it): the
+    /// two triangles; `None` for a pair with a quad, or one the lanes are known to leave
+    /// undecided.
+    fn triangles(&mut self, key: K) -> Option<[&[P3; 3]; 2]>;
     /// The scalar test the kernel stands for: for the pairs the lanes leave undecided, and
     /// those with a quad.
     fn scalar(&mut self, key: K) -> bool;
     /// A pair that meets.
     fn found(&mut self, key: K);
+    /// A hint: pair `key` comes soon (its triangles might be fetched into the cache).
+    #[inline(always)]
+    fn prefetch(&self, key: K) {
+        let _ = key;
+    }
 }
 
-impl<K: Copy + Default> Fours<K> {
-    /// Every pair of `keys`: `judge.found` for each that meets (the scalar test's answer; in
-    /// batches of four, so not quite in the order of `keys`).
-    #[inline]
-    pub(crate) fn decide(&mut self, keys: impl Iterator<Item = K>, judge: &mut impl Judge<K>) {
-        for key in keys {
-            // Written in place: the next lane of the batch.
-            let b = &mut self.first;
-            if !judge.triangles(key, &mut b.a[b.n], &mut b.b[b.n]) {
-                if judge.scalar(key) {
-                    judge.found(key);
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::polygon::Prepared;
+    use crate::geom::test_rng::Rng;
+    use crate::geom::tritri::triangles_intersect;
+
+    /// Pairs named by their position; one in ten stands for a pair with a quad (no
+    /// triangles for the lanes). The scalar test is `triangles_intersect` (or, for the
+    /// band, `Prepared::meets` both ways round).
+    struct Pairs {
+        pairs: Vec<[[P3; 3]; 2]>,
+        band: Option<f64>,
+        found: Vec<usize>,
+        scalar: usize,
+    }
+
+    impl Judge<usize> for Pairs {
+        fn triangles(&mut self, key: usize) -> Option<[&[P3; 3]; 2]> {
+            let [a, b] = &self.pairs[key];
+            (key % 10 != 3).then_some([a, b])
+        }
+        fn scalar(&mut self, key: usize) -> bool {
+            self.scalar += 1;
+            let [a, b] = &self.pairs[key];
+            match self.band {
+                None => triangles_intersect(a, b),
+                Some(h) => {
+                    let (pa, pb) = (Prepared::of([*a; 2], 1), Prepared::of([*b; 2], 1));
+                    pa.meets(&pb, Some(&pa.cells(h))) || pb.meets(&pa, Some(&pb.cells(h)))
                 }
-                continue;
-            }
-            b.at[b.n] = key;
-            b.n += 1;
-            if b.n == LANES {
-                self.run(false, judge);
             }
         }
-        self.run(true, judge);
+        fn found(&mut self, key: usize) {
+            self.found.push(key);
+        }
+    }
+
+    /// A pair: random (about half crossing), on a coarse grid (shared vertices, coplanar
+    /// and flat triangles: left to the scalar test), or within about `0.05` of each other.
+    fn pair(rng: &mut Rng, kind: usize) -> [[P3; 3]; 2] {
+        let mut t = || -> [P3; 3] {
+            std::array::from_fn(|_| match kind {
+                0 => rng.v(1.0),
+                1 => [0, 1, 2].map(|_| rng.below(3) as f64),
+                _ => [rng.f(), rng.f(), rng.f() * 0.05],
+            })
+        };
+        [t(), t()]
+    }
+
+    /// The whole path (gathering, the lanes, the scalar test for the lanes left undecided
+    /// and for quads, the last batch padded) finds what the scalar test finds, each pair
+    /// once: the exact test on eight lanes (where the CPU has AVX-512F) and on four, and
+    /// the band test, over a number of pairs that is not a multiple of eight.
+    #[test]
+    fn decides_as_the_scalar_test() {
+        let mut rng = Rng(0x0BA7_C4E5_u64);
+        let pairs: Vec<_> = (0..4_001).map(|i| pair(&mut rng, i % 3)).collect();
+        for (kernel, eight) in [
+            (Kernel::Exact, true),
+            (Kernel::Exact, false),
+            (
+                Kernel::Band {
+                    h: 0.01,
+                    both: true,
+                },
+                false,
+            ),
+        ] {
+            let Some(mut fours) = Fours::with(kernel, eight) else {
+                println!("no AVX2 and FMA: the lanes are not used");
+                return;
+            };
+            if eight && !fours.eight {
+                println!("no AVX-512F: the exact test on four lanes only");
+            }
+            let band = match kernel {
+                Kernel::Exact => None,
+                Kernel::Band { h, .. } => Some(h),
+            };
+            let mut judge = Pairs {
+                pairs: pairs.clone(),
+                band,
+                found: Vec::new(),
+                scalar: 0,
+            };
+            let want: Vec<usize> = (0..pairs.len()).filter(|&k| judge.scalar(k)).collect();
+            judge.scalar = 0;
+            fours.decide(0..pairs.len(), &mut judge);
+            let mut found = std::mem::take(&mut judge.found);
+            found.sort_unstable();
+            assert_eq!(found, want, "{kernel:?}, eight lanes: {}", fours.eight);
+            // The lanes decided most pairs, and left some (and the quads) to the scalar
+            // test.
+            println!(
+                "{kernel:?} (eight lanes: {}): {} of {} pairs meet, {} by the scalar test",
+                fours.eight,
+                want.len(),
+                pairs.len(),
+                judge.scalar
+            );
+            assert!(want.len() > 500 && want.len() < pairs.len() - 500);
+            assert!(judge.scalar > pairs.len() / 10 && judge.scalar < pairs.len() / 2);
+        }
     }
 }

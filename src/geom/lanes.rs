@@ -9,6 +9,11 @@
 //! version of the contact kernel came out half scalar (shuffles and spills) and slower than
 //! the scalar code it copies. A kernel must not use closures: a closure is compiled as its
 //! own function, without AVX2, and every intrinsic in it then becomes a call.
+//!
+//! A kernel written for any lane width ([`crate::geom::tritri::four`]'s exact test, which
+//! runs on eight AVX-512 lanes too) is written with the traits [`Float`] and [`Mask`],
+//! which these types and those of [`super::lanes8`] implement, and with [`W`] and
+//! [`Plane`] over them.
 
 use std::arch::x86_64::*;
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -17,6 +22,57 @@ use super::predicates::P3;
 
 /// Lanes per vector.
 pub(crate) const LANES: usize = 4;
+
+/// What a kernel written for any lane width asks of a vector of `f64` lanes ([`F`], or
+/// [`super::lanes8::F8`]): each operation one IEEE operation per lane, the same whatever the
+/// width, so the kernel gives the same lanes the same answers.
+pub(crate) trait Float:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+{
+    /// Lanes per vector.
+    const LANES: usize;
+    /// The vector's lane masks.
+    type Mask: Mask<Float = Self>;
+    /// Another value under the type's invariant (so no promise needed): `x` in every lane.
+    fn like(&self, x: f64) -> Self;
+    fn abs(self) -> Self;
+    /// `self < y` per lane (ordered: false where either is NaN).
+    fn lt(self, y: Self) -> Self::Mask;
+    /// `self > y` per lane (ordered).
+    #[inline(always)]
+    fn gt(self, y: Self) -> Self::Mask {
+        y.lt(self)
+    }
+    /// `self == y` per lane (ordered: false where either is NaN).
+    fn eq(self, y: Self) -> Self::Mask;
+}
+
+/// The lane masks of a [`Float`] (set or clear per lane).
+pub(crate) trait Mask: Copy {
+    /// The vectors whose lanes the mask selects.
+    type Float: Float<Mask = Self>;
+    fn and(self, o: Self) -> Self;
+    fn or(self, o: Self) -> Self;
+    /// Lanes where the two masks differ.
+    fn xor(self, o: Self) -> Self;
+    fn not(self) -> Self;
+    /// Bit `l` set when lane `l` is.
+    fn bits(self) -> u32;
+    /// `if self { x } else { y }` per lane.
+    fn sel(self, x: Self::Float, y: Self::Float) -> Self::Float;
+    /// `if self { x } else { y }` per lane, of masks.
+    fn selm(self, x: Self, y: Self) -> Self;
+
+    /// `if self { x } else { y }` per lane, of 3-vectors.
+    #[inline(always)]
+    fn selw(self, x: &W<Self::Float>, y: &W<Self::Float>) -> W<Self::Float> {
+        W {
+            x: self.sel(x.x, y.x),
+            y: self.sel(x.y, y.y),
+            z: self.sel(x.z, y.z),
+        }
+    }
+}
 
 /// Four `f64` lanes. **Invariant**: a value of this type (or of [`M`]) exists only on a
 /// CPU with AVX2 and FMA: the only ways to make one are `unsafe` functions whose callers
@@ -45,13 +101,6 @@ impl F {
         unsafe { F(_mm256_loadu_pd(x.as_ptr())) }
     }
 
-    /// Another value under the invariant (so no promise needed).
-    #[inline(always)]
-    pub(crate) fn like(&self, x: f64) -> F {
-        // SAFETY: `self` exists, so the CPU has AVX2 (the type's invariant).
-        unsafe { F::splat(x) }
-    }
-
     /// Stores the four lanes at `p`.
     ///
     /// # Safety
@@ -60,12 +109,6 @@ impl F {
     pub(crate) unsafe fn store(&self, p: *mut f64) {
         // SAFETY: the caller's promise; the invariant.
         unsafe { _mm256_storeu_pd(p, self.0) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn abs(self) -> F {
-        // SAFETY: the invariant.
-        unsafe { F(_mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0)) }
     }
 
     /// `x < y ? x : y` per lane (`minpd`), the scalar path's `min`.
@@ -106,31 +149,43 @@ impl F {
     }
 
     #[inline(always)]
-    pub(crate) fn lt(self, y: F) -> M {
-        // SAFETY: the invariant.
-        unsafe { M(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, y.0)) }
-    }
-
-    #[inline(always)]
     pub(crate) fn le(self, y: F) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_cmp_pd::<_CMP_LE_OQ>(self.0, y.0)) }
     }
 
     #[inline(always)]
-    pub(crate) fn eq(self, y: F) -> M {
-        // SAFETY: the invariant.
-        unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn gt(self, y: F) -> M {
-        y.lt(self)
-    }
-
-    #[inline(always)]
     pub(crate) fn ge(self, y: F) -> M {
         y.le(self)
+    }
+}
+
+impl Float for F {
+    const LANES: usize = LANES;
+    type Mask = M;
+
+    #[inline(always)]
+    fn like(&self, x: f64) -> F {
+        // SAFETY: `self` exists, so the CPU has AVX2 (the type's invariant).
+        unsafe { F::splat(x) }
+    }
+
+    #[inline(always)]
+    fn abs(self) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0)) }
+    }
+
+    #[inline(always)]
+    fn lt(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn eq(self, y: F) -> M {
+        // SAFETY: the invariant.
+        unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
     }
 }
 
@@ -160,28 +215,29 @@ impl Neg for F {
     }
 }
 
-impl M {
+impl Mask for M {
+    type Float = F;
+
     #[inline(always)]
-    pub(crate) fn and(self, o: M) -> M {
+    fn and(self, o: M) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_and_pd(self.0, o.0)) }
     }
 
     #[inline(always)]
-    pub(crate) fn or(self, o: M) -> M {
+    fn or(self, o: M) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_or_pd(self.0, o.0)) }
     }
 
-    /// Lanes where the two masks differ.
     #[inline(always)]
-    pub(crate) fn xor(self, o: M) -> M {
+    fn xor(self, o: M) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_xor_pd(self.0, o.0)) }
     }
 
     #[inline(always)]
-    pub(crate) fn not(self) -> M {
+    fn not(self) -> M {
         // SAFETY: the invariant.
         unsafe {
             M(_mm256_xor_pd(
@@ -191,34 +247,22 @@ impl M {
         }
     }
 
-    /// Bit `l` set when lane `l` is.
     #[inline(always)]
-    pub(crate) fn bits(self) -> u32 {
+    fn bits(self) -> u32 {
         // SAFETY: the invariant.
         unsafe { _mm256_movemask_pd(self.0) as u32 }
     }
 
-    /// `if self { x } else { y }` per lane.
     #[inline(always)]
-    pub(crate) fn sel(self, x: F, y: F) -> F {
+    fn sel(self, x: F, y: F) -> F {
         // SAFETY: the invariant.
         unsafe { F(_mm256_blendv_pd(y.0, x.0, self.0)) }
     }
 
-    /// `if self { x } else { y }` per lane, of masks.
     #[inline(always)]
-    pub(crate) fn selm(self, x: M, y: M) -> M {
+    fn selm(self, x: M, y: M) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_blendv_pd(y.0, x.0, self.0)) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn selw(self, x: &W, y: &W) -> W {
-        W {
-            x: self.sel(x.x, y.x),
-            y: self.sel(x.y, y.y),
-            z: self.sel(x.z, y.z),
-        }
     }
 }
 
@@ -229,21 +273,21 @@ pub(crate) fn sel3(m0: M, m1: M, x: F, y: F, z: F) -> F {
 }
 
 #[inline(always)]
-pub(crate) fn sel3w(m0: M, m1: M, x: &W, y: &W, z: &W) -> W {
+pub(crate) fn sel3w<T: Float>(m0: T::Mask, m1: T::Mask, x: &W<T>, y: &W<T>, z: &W<T>) -> W<T> {
     m0.selw(x, &m1.selw(y, z))
 }
 
-/// A 3-vector per lane.
+/// A 3-vector per lane (of four lanes unless said otherwise).
 #[derive(Clone, Copy)]
-pub(crate) struct W {
-    pub(crate) x: F,
-    pub(crate) y: F,
-    pub(crate) z: F,
+pub(crate) struct W<T = F> {
+    pub(crate) x: T,
+    pub(crate) y: T,
+    pub(crate) z: T,
 }
 
-impl W {
+impl<T: Float> W<T> {
     #[inline(always)]
-    pub(crate) fn sub(&self, o: &W) -> W {
+    pub(crate) fn sub(&self, o: &W<T>) -> W<T> {
         W {
             x: self.x - o.x,
             y: self.y - o.y,
@@ -253,7 +297,7 @@ impl W {
 
     /// `self + o * t` (nalgebra's `p + v * t`: the product rounded, then the sum).
     #[inline(always)]
-    pub(crate) fn add_scaled(&self, o: &W, t: F) -> W {
+    pub(crate) fn add_scaled(&self, o: &W<T>, t: T) -> W<T> {
         W {
             x: self.x + o.x * t,
             y: self.y + o.y * t,
@@ -262,7 +306,7 @@ impl W {
     }
 
     #[inline(always)]
-    pub(crate) fn scale(&self, t: F) -> W {
+    pub(crate) fn scale(&self, t: T) -> W<T> {
         W {
             x: self.x * t,
             y: self.y * t,
@@ -272,7 +316,7 @@ impl W {
 
     /// nalgebra's `cross`, component by component.
     #[inline(always)]
-    pub(crate) fn cross(&self, o: &W) -> W {
+    pub(crate) fn cross(&self, o: &W<T>) -> W<T> {
         W {
             x: self.y * o.z - self.z * o.y,
             y: self.z * o.x - self.x * o.z,
@@ -282,21 +326,23 @@ impl W {
 
     /// nalgebra's `dot` for 3-vectors: `(x x' + y y') + z z'`.
     #[inline(always)]
-    pub(crate) fn dot(&self, o: &W) -> F {
+    pub(crate) fn dot(&self, o: &W<T>) -> T {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
 
     /// `self . |o|`.
     #[inline(always)]
-    pub(crate) fn dot_abs(&self, o: &W) -> F {
+    pub(crate) fn dot_abs(&self, o: &W<T>) -> T {
         self.x * o.x.abs() + self.y * o.y.abs() + self.z * o.z.abs()
     }
 
     #[inline(always)]
-    pub(crate) fn norm_squared(&self) -> F {
+    pub(crate) fn norm_squared(&self) -> T {
         self.dot(self)
     }
+}
 
+impl W {
     /// The largest magnitude of a component.
     #[inline(always)]
     pub(crate) fn amax(&self) -> F {
@@ -304,16 +350,29 @@ impl W {
     }
 }
 
-/// Four triangles stored lane by lane (vertex, coordinate, lane): what a kernel loads as
-/// [`W`]s with one aligned load per coordinate. Filled one triangle at a time by whoever
-/// gathers the batch (each coordinate stored once, where the kernel reads it), rather than
-/// as `[[P3; 3]; 4]` copied into lanes through the stack.
+/// `N` triangles (four unless said otherwise) stored lane by lane (vertex, coordinate,
+/// lane): what a kernel loads as [`W`]s with one aligned load per coordinate. Filled one
+/// triangle at a time by whoever gathers the batch (each coordinate stored once, where the
+/// kernel reads it), rather than as `[[P3; 3]; N]` copied into lanes through the stack.
+/// Each row of `N` lanes starts at a multiple of `8 N` bytes from the start, which is
+/// aligned to 64 bytes: a row of four or eight lanes is aligned for a 256-bit or 512-bit
+/// load.
 #[derive(Clone, Copy)]
-#[repr(C, align(32))]
-pub(crate) struct TriLanes([[[f64; LANES]; 3]; 3]);
+#[repr(C, align(64))]
+pub(crate) struct TriLanes<const N: usize = LANES>(pub(super) [[[f64; N]; 3]; 3]);
 
-impl TriLanes {
-    pub(crate) const ZERO: TriLanes = TriLanes([[[0.0; LANES]; 3]; 3]);
+impl<const N: usize> TriLanes<N> {
+    pub(crate) const ZERO: TriLanes<N> = TriLanes([[[0.0; N]; 3]; 3]);
+
+    /// The triangles `t` in lanes.
+    #[cfg(test)]
+    pub(crate) fn of(t: &[[P3; 3]; N]) -> TriLanes<N> {
+        let mut v = TriLanes::ZERO;
+        for (l, t) in t.iter().enumerate() {
+            v.set(l, t);
+        }
+        v
+    }
 
     /// Lane `l`'s triangle becomes `t`.
     #[inline(always)]
@@ -331,6 +390,18 @@ impl TriLanes {
         [0, 1, 2].map(|k| [self.0[k][0][l], self.0[k][1][l], self.0[k][2][l]])
     }
 
+    /// Lane `l` becomes lane 0's triangle for every `l` from `n` on (padding: lanes whose
+    /// answers are dropped).
+    #[inline]
+    pub(crate) fn pad(&mut self, n: usize) {
+        let t = self.get(0);
+        for l in n..N {
+            self.set(l, &t);
+        }
+    }
+}
+
+impl TriLanes {
     /// The lanes as vectors.
     ///
     /// # Safety
@@ -347,8 +418,8 @@ impl TriLanes {
     #[inline(always)]
     unsafe fn vertex(&self, k: usize) -> W {
         let v = &self.0[k];
-        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (the
-        // type's alignment, rows at multiples of 32 bytes).
+        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (rows at
+        // multiples of 32 bytes from the start, which the type aligns to 64).
         unsafe {
             W {
                 x: F(_mm256_load_pd(v[0].as_ptr())),
@@ -405,57 +476,21 @@ pub(crate) fn transpose2(r0: F, r1: F) -> [__m128d; 4] {
     }
 }
 
-/// The three vertices of each lane's triangle, as lanes.
-///
-/// # Safety
-/// The CPU has AVX2 and FMA.
-#[inline(always)]
-pub(crate) unsafe fn load(t: &[[P3; 3]; LANES]) -> [W; 3] {
-    let mut v = [[[0.0; LANES]; 3]; 3];
-    for (l, t) in t.iter().enumerate() {
-        for k in 0..3 {
-            for m in 0..3 {
-                v[k][m][l] = t[k][m];
-            }
-        }
-    }
-    // SAFETY: the caller's promise.
-    unsafe {
-        [
-            W {
-                x: F::new(v[0][0]),
-                y: F::new(v[0][1]),
-                z: F::new(v[0][2]),
-            },
-            W {
-                x: F::new(v[1][0]),
-                y: F::new(v[1][1]),
-                z: F::new(v[1][2]),
-            },
-            W {
-                x: F::new(v[2][0]),
-                y: F::new(v[2][1]),
-                z: F::new(v[2][2]),
-            },
-        ]
-    }
-}
-
 /// A triangle's plane per lane, as `tritri::Plane` and the contact fast path make it: a
 /// vertex `o`, the edges `e = t1 - t0` and `f = t2 - t0`, the normal `n = e x f` (not
 /// normalized) and, per component, the sum of the magnitudes of the two products behind it
 /// (`perm`: the scale of its rounding error).
-pub(crate) struct Plane {
-    pub(crate) o: W,
-    pub(crate) e: W,
-    pub(crate) f: W,
-    pub(crate) n: W,
-    pub(crate) perm: W,
+pub(crate) struct Plane<T = F> {
+    pub(crate) o: W<T>,
+    pub(crate) e: W<T>,
+    pub(crate) f: W<T>,
+    pub(crate) n: W<T>,
+    pub(crate) perm: W<T>,
 }
 
-impl Plane {
+impl<T: Float> Plane<T> {
     #[inline(always)]
-    pub(crate) fn of(t: &[W; 3]) -> Plane {
+    pub(crate) fn of(t: &[W<T>; 3]) -> Plane<T> {
         let e = t[1].sub(&t[0]);
         let f = t[2].sub(&t[0]);
         Plane {
@@ -474,7 +509,7 @@ impl Plane {
     /// `p`'s signed distance `n . (p - o)` (times `|n|`; of the sign opposite to
     /// `orient3d(t0, t1, t2, p)`) and the scale of its rounding error, `perm . |p - o|`.
     #[inline(always)]
-    pub(crate) fn distance(&self, p: &W) -> (F, F) {
+    pub(crate) fn distance(&self, p: &W<T>) -> (T, T) {
         let w = p.sub(&self.o);
         (self.n.dot(&w), self.perm.dot_abs(&w))
     }

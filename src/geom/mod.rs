@@ -10,6 +10,8 @@ pub mod contact;
 pub mod fan;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod lanes;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod lanes8;
 pub mod patch;
 pub mod polygon;
 pub mod predicates;

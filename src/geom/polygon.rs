@@ -62,15 +62,11 @@ impl Prepared {
         };
     }
 
-    /// This polygon's and `o`'s triangles written to `a` and `b` when both are triangles
-    /// (what the four-lane kernels take); `false`, writing nothing, when either is a quad.
+    /// This polygon's and `o`'s triangles when both are triangles (what the lane kernels
+    /// take); `None` when either is a quad.
     #[inline]
-    pub fn triangle_pair(&self, o: &Prepared, a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
-        if self.poly.n != 1 || o.poly.n != 1 {
-            return false;
-        }
-        (*a, *b) = (self.poly.tris[0], o.poly.tris[0]);
-        true
+    pub fn triangle_pair<'s>(&'s self, o: &'s Prepared) -> Option<[&'s [P3; 3]; 2]> {
+        (self.poly.n == 1 && o.poly.n == 1).then_some([&self.poly.tris[0], &o.poly.tris[0]])
     }
 
     /// The viewing volumes of the polygon's triangles (`h > 0`).

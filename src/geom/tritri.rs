@@ -9,6 +9,8 @@
 use super::predicates::{collinear, drop_axis, orient2d, orient2d_filtered, orient3d, P3};
 
 #[cfg(target_arch = "x86_64")]
+pub(crate) mod eight;
+#[cfg(target_arch = "x86_64")]
 pub(crate) mod four;
 
 /// Do the closed triangles `t` and `u` share at least one point? Touching counts.
@@ -765,6 +767,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn four_lanes_decide_as_the_exact_test() {
+        use crate::geom::lanes::TriLanes;
         if !(std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")) {
             return;
         }
@@ -786,7 +789,7 @@ mod tests {
             let a: [[P3; 3]; 4] = [pair(), pair(), pair(), pair()];
             let b: [[P3; 3]; 4] = [pair(), pair(), pair(), pair()];
             // SAFETY: AVX2 and FMA checked above.
-            let (d, m) = unsafe { four::intersect(&a, &b) };
+            let (d, m) = unsafe { four::intersect(&TriLanes::of(&a), &TriLanes::of(&b)) };
             for l in 0..4 {
                 let want = triangles_intersect(&a[l], &b[l]);
                 total[kind] += 1;
@@ -801,5 +804,181 @@ mod tests {
         }
         println!("decided in the lanes (random, grid, clustered): {decided:?} of {total:?}; {meets} meet");
         assert!(decided[0] * 10 > total[0] * 9 && decided[2] * 10 > total[2] * 8 && meets > 20_000);
+    }
+
+    /// The eight-lane test (AVX-512) decides only what floating point certifies, and then
+    /// as the exact test, on pairs of every kind mixed in each batch: random (crossing,
+    /// apart, near misses), exactly coplanar in a slanted plane, touching (a shared vertex,
+    /// a vertex on an edge or on the face, exact), slivers, degenerate triangles (a
+    /// segment, a point, three collinear points), far from the origin (1e7), at huge and
+    /// tiny scales, and with an edge of each in one coordinate plane (where the edges
+    /// cross, an orientation of Guigue and Devillers' is exactly 0). Every lane is decided
+    /// as by the four-lane test (the same kernel), and most random pairs whose triangles
+    /// cross each other's planes (Guigue and Devillers' general position) and most pairs
+    /// with edges in one coordinate plane are decided in the lanes.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn eight_lanes_decide_as_the_exact_test() {
+        use crate::geom::lanes::TriLanes;
+        if !std::is_x86_feature_detected!("avx512f") {
+            println!("no AVX-512F: the eight lanes are not used");
+            return;
+        }
+        const KINDS: usize = 8;
+        let mut rng = crate::geom::test_rng::Rng(0x8E16_7A11_5EED_u64);
+        // On a grid of 1/64 in [-1, 1): sums, halves and quarters of these are exact.
+        let grid = |rng: &mut crate::geom::test_rng::Rng| -> P3 {
+            [0, 1, 2].map(|_| (rng.f() * 128.0).floor() / 64.0)
+        };
+        let pair = |rng: &mut crate::geom::test_rng::Rng, kind: usize| -> ([P3; 3], [P3; 3]) {
+            let random =
+                |rng: &mut crate::geom::test_rng::Rng| [rng.v(1.0), rng.v(1.0), rng.v(1.0)];
+            match kind {
+                // Random, about half crossing.
+                0 => (random(rng), random(rng)),
+                // Exactly coplanar, in a plane spanned by two integer directions.
+                1 => {
+                    let (d1, d2) = ([1.0, 2.0, -1.0], [0.0, 1.0, 3.0]);
+                    let mut p = || -> P3 {
+                        let (a, b) = (rng.below(6) as f64, rng.below(6) as f64);
+                        [0, 1, 2].map(|k| a * d1[k] + b * d2[k])
+                    };
+                    ([p(), p(), p()], [p(), p(), p()])
+                }
+                // Touching: `u`'s first vertex a vertex of `t`, the midpoint of an edge or
+                // a point of the face (exact on the grid), or (one time in four) moved off
+                // it by about 1e-12; the others random.
+                2 => {
+                    let t = [grid(rng), grid(rng), grid(rng)];
+                    let mut at: P3 = match rng.below(3) {
+                        0 => t[rng.below(3)],
+                        1 => [0, 1, 2].map(|k| (t[0][k] + t[1][k]) / 2.0),
+                        _ => [0, 1, 2].map(|k| {
+                            t[0][k] + (t[1][k] - t[0][k]) / 4.0 + (t[2][k] - t[0][k]) / 4.0
+                        }),
+                    };
+                    if rng.below(4) == 0 {
+                        let e = rng.v(1e-12);
+                        at = [0, 1, 2].map(|k| at[k] + e[k]);
+                    }
+                    (t, [at, grid(rng), grid(rng)])
+                }
+                // A sliver (aspect about 1e9) and a random triangle, or two slivers.
+                3 => {
+                    let sliver = |rng: &mut crate::geom::test_rng::Rng| {
+                        let (a, b, e) = (rng.v(1.0), rng.v(1.0), rng.v(1e-9));
+                        [a, b, [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0 + e[k])]
+                    };
+                    let u = if rng.below(2) == 0 {
+                        sliver(rng)
+                    } else {
+                        random(rng)
+                    };
+                    (sliver(rng), u)
+                }
+                // Degenerate: a segment, a point or three collinear points, against a
+                // random triangle or another degenerate one.
+                4 => {
+                    let flat = |rng: &mut crate::geom::test_rng::Rng| {
+                        let (a, b) = (grid(rng), grid(rng));
+                        match rng.below(3) {
+                            0 => [a, b, a],
+                            1 => [a, a, a],
+                            _ => [a, b, [0, 1, 2].map(|k| 2.0 * b[k] - a[k])],
+                        }
+                    };
+                    let u = if rng.below(3) == 0 {
+                        flat(rng)
+                    } else {
+                        random(rng)
+                    };
+                    (flat(rng), u)
+                }
+                // Far from the origin, size about 1.
+                5 => {
+                    let o = [1e7, -1e7, 1e7];
+                    let far = |t: [P3; 3]| t.map(|p| [0, 1, 2].map(|k| o[k] + p[k]));
+                    (far(random(rng)), far(random(rng)))
+                }
+                // Huge and tiny.
+                6 => {
+                    let s = [1e-30, 1e-8, 1e8, 1e30][rng.below(4)];
+                    let scaled = |t: [P3; 3]| t.map(|p| p.map(|x| x * s));
+                    (scaled(random(rng)), scaled(random(rng)))
+                }
+                // An edge of each in one coordinate plane (`x_k = 1/4`), the triangles on
+                // either side of it: they meet exactly where the edges cross (a point).
+                _ => {
+                    let ax = rng.below(3);
+                    let mut p = |side: f64| -> P3 {
+                        let mut p = rng.v(1.0);
+                        p[ax] = 0.25 + side * rng.range(0.01, 0.5);
+                        p
+                    };
+                    let (mut t, mut u) = ([p(-1.0), p(0.0), p(0.0)], [p(0.0), p(0.0), p(1.0)]);
+                    rng.shuffle(&mut t);
+                    rng.shuffle(&mut u);
+                    (t, u)
+                }
+            }
+        };
+        let (mut decided, mut total, mut meets) =
+            ([0usize; KINDS], [0usize; KINDS], [0usize; KINDS]);
+        let (mut general, mut general_decided) = (0usize, 0usize);
+        for _ in 0..20_000 {
+            let kinds: [usize; 8] = std::array::from_fn(|_| rng.below(KINDS));
+            let pairs = kinds.map(|k| pair(&mut rng, k));
+            let (a, b) = (pairs.map(|p| p.0), pairs.map(|p| p.1));
+            // SAFETY: AVX-512F checked above (and with it AVX2 and FMA).
+            let (d, m) = unsafe { eight::intersect(&TriLanes::of(&a), &TriLanes::of(&b)) };
+            // The same lanes decided, the same way, four at a time.
+            let half = |h: usize| -> [[P3; 3]; 4] { std::array::from_fn(|l| a[4 * h + l]) };
+            let halb = |h: usize| -> [[P3; 3]; 4] { std::array::from_fn(|l| b[4 * h + l]) };
+            // SAFETY: as above.
+            let ((d0, m0), (d1, m1)) = unsafe {
+                (
+                    four::intersect(&TriLanes::of(&half(0)), &TriLanes::of(&halb(0))),
+                    four::intersect(&TriLanes::of(&half(1)), &TriLanes::of(&halb(1))),
+                )
+            };
+            assert_eq!((d, m), (d0 | d1 << 4, m0 | m1 << 4), "{a:?} {b:?}");
+            for l in 0..8 {
+                let (t, u, kind) = (&a[l], &b[l], kinds[l]);
+                let want = triangles_intersect(t, u);
+                total[kind] += 1;
+                meets[kind] += usize::from(want);
+                if d & (1 << l) != 0 {
+                    decided[kind] += 1;
+                    assert_eq!(m & (1 << l) != 0, want, "kind {kind}: {t:?} {u:?}");
+                } else {
+                    assert_eq!(m & (1 << l), 0);
+                }
+                if kind == 0 {
+                    let ut = [0, 1, 2].map(|k| orient3d(&t[0], &t[1], &t[2], &u[k]));
+                    let tu = [0, 1, 2].map(|k| orient3d(&u[0], &u[1], &u[2], &t[k]));
+                    if !strictly_one_side(&ut)
+                        && !strictly_one_side(&tu)
+                        && ut.iter().chain(&tu).all(|&o| o != 0.0)
+                    {
+                        general += 1;
+                        general_decided += usize::from(d & (1 << l) != 0);
+                    }
+                }
+            }
+        }
+        println!(
+            "decided in eight lanes (random, coplanar, touching, sliver, degenerate, far, \
+             scaled, crossing edges): {decided:?} of {total:?}, {meets:?} meet; general \
+             position {general_decided} of {general}"
+        );
+        // Every kind seen, meeting and apart; most random pairs and most of those in
+        // general position decided in the lanes.
+        assert!(
+            (0..KINDS).all(|k| meets[k] > 100 && meets[k] < total[k]),
+            "{meets:?}"
+        );
+        assert!(decided[0] * 10 > total[0] * 9 && decided[5] * 10 > total[5] * 9);
+        assert!(decided[7] * 10 > total[7] * 9);
+        assert!(general > 5_000 && general_decided * 10 > general * 9);
     }
 }

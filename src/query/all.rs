@@ -1031,18 +1031,17 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
 
 #[cfg(target_arch = "x86_64")]
 impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> {
-    #[inline]
-    fn triangles(&mut self, (p, q): (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+    #[inline(always)]
+    fn triangles(&mut self, (p, q): (u32, u32)) -> Option<[&[P3; 3]; 2]> {
         if let Some(t) = self.tris {
             let (tp, tq) = (&t[p as usize], &t[q as usize]);
             // Both in one coordinate plane (a flat sheet, a box, a floor): every
             // orientation in the lanes would be 0, so straight to the scalar test's 2D
             // decision.
             if self.h == 0.0 && shared_axis_plane(tp, tq).is_some() {
-                return false;
+                return None;
             }
-            (*a, *b) = (*tp, *tq);
-            return true;
+            return Some([tp, tq]);
         }
         let (m, order) = (self.m, self.order);
         let ip = self
@@ -1051,7 +1050,7 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
         let iq = self
             .prepared
             .get(q as usize, || prepared(m, order[q as usize] as usize));
-        self.prepared.made[ip].triangle_pair(&self.prepared.made[iq], a, b)
+        self.prepared.made[ip].triangle_pair(&self.prepared.made[iq])
     }
     #[inline]
     fn scalar(&mut self, key: (u32, u32)) -> bool {
@@ -1060,6 +1059,25 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
     #[inline]
     fn found(&mut self, (p, q): (u32, u32)) {
         (self.push)(p, q);
+    }
+    /// The two triangles' cache lines (a triangle spans two at most), when the mesh's
+    /// triangles are made: the pairs' second triangles are scattered over the mesh.
+    #[inline(always)]
+    fn prefetch(&self, (p, q): (u32, u32)) {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        if let Some(t) = self.tris {
+            for i in [p, q] {
+                if let Some(t) = t.get(i as usize) {
+                    let at = t.as_ptr().cast::<i8>();
+                    // SAFETY: a prefetch is a hint (no access, no fault); both addresses are
+                    // within the triangle (72 bytes, so `add(64)` stays inside it).
+                    unsafe {
+                        _mm_prefetch::<_MM_HINT_T0>(at);
+                        _mm_prefetch::<_MM_HINT_T0>(at.add(64));
+                    }
+                }
+            }
+        }
     }
 }
 

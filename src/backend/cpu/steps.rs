@@ -453,9 +453,9 @@ impl Five<'_> {
 #[cfg(target_arch = "x86_64")]
 impl crate::geom::batch::Judge<(u32, u32)> for Five<'_> {
     #[inline]
-    fn triangles(&mut self, key: (u32, u32), a: &mut [P3; 3], b: &mut [P3; 3]) -> bool {
+    fn triangles(&mut self, key: (u32, u32)) -> Option<[&[P3; 3]; 2]> {
         let (pv, pc) = self.both(key);
-        pv.triangle_pair(pc, a, b)
+        pv.triangle_pair(pc)
     }
     #[inline]
     fn scalar(&mut self, key: (u32, u32)) -> bool {

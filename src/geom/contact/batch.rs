@@ -148,11 +148,8 @@ impl Batch {
 
     /// The unused lanes repeat the first (their answers are dropped).
     fn pad(&mut self) {
-        let (a0, b0) = (self.a.get(0), self.b.get(0));
-        for l in self.n..four::LANES {
-            self.a.set(l, &a0);
-            self.b.set(l, &b0);
-        }
+        self.a.pad(self.n);
+        self.b.pad(self.n);
     }
 }
 

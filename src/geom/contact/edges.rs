@@ -11,7 +11,7 @@
 use super::band::EdgePair;
 use super::poly::Tri;
 use super::V;
-use crate::geom::lanes::{F, W};
+use crate::geom::lanes::{Float, Mask, F, W};
 
 /// `W` whose lanes are the vertices `v` (x, y, z).
 ///

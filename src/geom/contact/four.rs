@@ -25,7 +25,7 @@ use std::mem::MaybeUninit;
 
 use super::cut::{FACE_SLACK, REFINE};
 use super::ContactGeometry;
-use crate::geom::lanes::{sel3, sel3w, store2, transpose, transpose2, Plane, F, M, W};
+use crate::geom::lanes::{sel3, sel3w, store2, transpose, transpose2, Float, Mask, Plane, F, M, W};
 
 /// Pairs per pass.
 pub(super) use crate::geom::lanes::LANES;

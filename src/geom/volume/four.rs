@@ -28,8 +28,7 @@
 //! lane is at least `~1e-7 R` from the volume's boundary, where the scalar path's rounding
 //! cannot change its answer.
 
-use crate::geom::lanes::{load, F, LANES, M, W};
-use crate::geom::predicates::P3;
+use crate::geom::lanes::{Float, Mask, TriLanes, F, LANES, M, W};
 
 /// Margin of a corner's place against the slab, relative to `R`.
 const TOL_W: f64 = 1e-6;
@@ -302,14 +301,9 @@ fn prism(a: &[W; 3], t: &[W; 3], h: F) -> (M, M) {
 /// # Safety
 /// The CPU has AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn band_far(
-    a: &[[P3; 3]; LANES],
-    b: &[[P3; 3]; LANES],
-    h: f64,
-    both: bool,
-) -> u32 {
+pub(crate) unsafe fn band_far(a: &TriLanes, b: &TriLanes, h: f64, both: bool) -> u32 {
     // SAFETY: the caller's promise.
-    let (ta, tb, h) = unsafe { (load(a), load(b), F::splat(h)) };
+    let (ta, tb, h) = unsafe { (a.load(), b.load(), F::splat(h)) };
     let seen = Seen::of(&ta, &tb, h);
     if both {
         seen.corners_beyond::<true>(h).and(shaped(&tb)).bits()
@@ -327,14 +321,9 @@ pub(crate) unsafe fn band_far(
 /// # Safety
 /// The CPU has AVX2 and FMA.
 #[target_feature(enable = "avx2,fma")]
-pub(crate) unsafe fn band(
-    a: &[[P3; 3]; LANES],
-    b: &[[P3; 3]; LANES],
-    h: f64,
-    both: bool,
-) -> (u32, u32) {
+pub(crate) unsafe fn band(a: &TriLanes, b: &TriLanes, h: f64, both: bool) -> (u32, u32) {
     // SAFETY: the caller's promise.
-    let (ta, tb, h) = unsafe { (load(a), load(b), F::splat(h)) };
+    let (ta, tb, h) = unsafe { (a.load(), b.load(), F::splat(h)) };
     // A triangle meeting `a` meets `a`'s volume (`a` lies in it): "misses the volume"
     // certifies the exact test's answer too.
     let (meets, misses) = prism(&ta, &tb, h);
@@ -355,6 +344,7 @@ pub(crate) unsafe fn band(
 mod tests {
     use super::*;
     use crate::geom::polygon::Prepared;
+    use crate::geom::predicates::P3;
     use crate::geom::test_rng::Rng;
 
     /// The scalar test the lanes stand for: `b` meets `a`'s volumes or `a` (and, when
@@ -444,7 +434,14 @@ mod tests {
         for both in [false, true] {
             for (x, y) in [(a, b), (b, a)] {
                 // SAFETY: AVX2 and FMA checked above.
-                let (d, m) = unsafe { band(&[x; LANES], &[y; LANES], h, both) };
+                let (d, m) = unsafe {
+                    band(
+                        &TriLanes::of(&[x; LANES]),
+                        &TriLanes::of(&[y; LANES]),
+                        h,
+                        both,
+                    )
+                };
                 let want = scalar(&x, &y, h, both);
                 assert!(
                     d == 0 || (m != 0) == want,
@@ -452,7 +449,14 @@ mod tests {
                 );
             }
             // SAFETY: as above.
-            let far = unsafe { band_far(&[b; LANES], &[a; LANES], h, both) };
+            let far = unsafe {
+                band_far(
+                    &TriLanes::of(&[b; LANES]),
+                    &TriLanes::of(&[a; LANES]),
+                    h,
+                    both,
+                )
+            };
             assert!(far == 0 || !scalar(&b, &a, h, both));
         }
     }
@@ -519,10 +523,11 @@ mod tests {
                 }
             }
             let (a, b) = (pairs.map(|p| p[0]), pairs.map(|p| p[1]));
+            let (la, lb) = (TriLanes::of(&a), TriLanes::of(&b));
             // SAFETY: AVX2 and FMA checked above.
-            let (d, m) = unsafe { band(&a, &b, h, both) };
+            let (d, m) = unsafe { band(&la, &lb, h, both) };
             // SAFETY: as above.
-            let far = unsafe { band_far(&a, &b, h, both) };
+            let far = unsafe { band_far(&la, &lb, h, both) };
             // Counted where f32 keeps the triangles' shapes (not size 1e-4 at 1e3 or 1e5),
             // without the segments and points (never decided as references).
             let counted = off * 1e-5 < scale;

@@ -161,7 +161,7 @@ fn intersecting_four_at_a_time_is_contact_geometry() {
             .collect();
         let (mut fast, mut all) = (0, 0);
         for chunk in tris.chunks_exact(four::LANES) {
-            let (mut a, mut b) = (TriLanes::ZERO, TriLanes::ZERO);
+            let (mut a, mut b): (TriLanes, TriLanes) = (TriLanes::ZERO, TriLanes::ZERO);
             for (l, (t, u)) in chunk.iter().enumerate() {
                 a.set(l, t);
                 b.set(l, u);
