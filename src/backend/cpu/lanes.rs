@@ -53,29 +53,43 @@ impl Lanes {
         }
     }
 
-    /// The boxes become `boxes` grown by `h` ([`Aabb::grown`]), padded; bound by bound,
-    /// shared between the caller's worker threads with `par` (inside a pool).
+    /// The boxes become `boxes` grown by `h` ([`Aabb::grown`]), padded; in one pass over
+    /// `boxes` (not one per bound: the reads cost more than the arithmetic), shared between
+    /// the caller's worker threads with `par` (inside a pool).
     pub fn set_grown(&mut self, boxes: &[Aabb], h: f64, par: bool) {
         use rayon::prelude::*;
-        self.resize(boxes.len());
-        let bounds = self.lo.iter_mut().chain(&mut self.hi).enumerate();
-        let fill = |(k, out): (usize, &mut Vec<f32>)| {
-            let at = |b: &Aabb| {
+        const CHUNK: usize = 2048;
+        let n = boxes.len();
+        self.resize(n);
+        let [lx, ly, lz] = &mut self.lo;
+        let [hx, hy, hz] = &mut self.hi;
+        // The six bounds' chunks side by side.
+        let mut bounds: Vec<[&mut [f32]; 6]> = lx[..n]
+            .chunks_mut(CHUNK)
+            .zip(ly[..n].chunks_mut(CHUNK))
+            .zip(lz[..n].chunks_mut(CHUNK))
+            .zip(hx[..n].chunks_mut(CHUNK))
+            .zip(hy[..n].chunks_mut(CHUNK))
+            .zip(hz[..n].chunks_mut(CHUNK))
+            .map(|(((((a, b), c), d), e), f)| [a, b, c, d, e, f])
+            .collect();
+        let fill = |(boxes, out): (&[Aabb], &mut [&mut [f32]; 6])| {
+            for (i, b) in boxes.iter().enumerate() {
                 let g = b.grown(h);
-                if k < 3 {
-                    g.min[k]
-                } else {
-                    g.max[k - 3]
+                for k in 0..3 {
+                    out[k][i] = g.min[k];
+                    out[k + 3][i] = g.max[k];
                 }
-            };
-            let out = &mut out[..boxes.len()];
-            if par {
-                out.par_iter_mut().zip(boxes).for_each(|(o, b)| *o = at(b));
-            } else {
-                out.iter_mut().zip(boxes).for_each(|(o, b)| *o = at(b));
             }
         };
-        bounds.for_each(fill);
+        if par {
+            boxes
+                .par_chunks(CHUNK)
+                .zip(bounds.par_iter_mut())
+                .for_each(fill);
+        } else {
+            boxes.chunks(CHUNK).zip(bounds.iter_mut()).for_each(fill);
+        }
     }
 
     /// Box `i` (`i < len`).
