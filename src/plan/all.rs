@@ -204,7 +204,12 @@ impl Planner {
                 | (u128::from(p.mesh_b) << 32)
                 | u128::from(p.polygon_b)
         }));
-        super::sort::sort_keys(keys, &mut self.merge_scratch);
+        match &self.workers.pool {
+            Some(pool) => {
+                pool.install(|| super::sort::sort_keys(keys, &mut self.merge_scratch, true))
+            }
+            None => super::sort::sort_keys(keys, &mut self.merge_scratch, false),
+        }
         keys.dedup();
         out.clear();
         out.extend(keys.iter().map(|&k| Pair {

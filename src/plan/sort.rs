@@ -8,8 +8,33 @@
 /// more than a short sort).
 const RADIX_MIN: usize = 4096;
 
-/// Sorts `keys` ascending; `scratch` is reused from call to call.
-pub(super) fn sort_keys(keys: &mut Vec<u128>, scratch: &mut Vec<u128>) {
+/// Sorts `keys` ascending; `scratch` is reused from call to call. With `par` (called
+/// inside a pool of two or more workers), the two halves are sorted side by side, then
+/// merged.
+pub(super) fn sort_keys(keys: &mut Vec<u128>, scratch: &mut Vec<u128>, par: bool) {
+    if !par || keys.len() < 2 * RADIX_MIN {
+        return radix(keys, scratch);
+    }
+    let half = keys.len() / 2;
+    let (mut lo, mut hi) = (keys[..half].to_vec(), keys[half..].to_vec());
+    let (mut lo_scratch, mut hi_scratch) = (Vec::new(), std::mem::take(scratch));
+    rayon::join(
+        || radix(&mut lo, &mut lo_scratch),
+        || radix(&mut hi, &mut hi_scratch),
+    );
+    *scratch = hi_scratch;
+    // The two sorted runs merged back into `keys`.
+    let (mut i, mut j) = (0, 0);
+    for k in keys.iter_mut() {
+        let take_lo = j == hi.len() || (i < lo.len() && lo[i] <= hi[j]);
+        *k = if take_lo { lo[i] } else { hi[j] };
+        i += usize::from(take_lo);
+        j += usize::from(!take_lo);
+    }
+}
+
+/// The radix sort of [`sort_keys`] (a comparison sort below [`RADIX_MIN`] keys).
+fn radix(keys: &mut Vec<u128>, scratch: &mut Vec<u128>) {
     if keys.len() < RADIX_MIN {
         keys.sort_unstable();
         return;
@@ -86,8 +111,11 @@ mod tests {
                 .collect();
             let mut want = keys.clone();
             want.sort_unstable();
-            sort_keys(&mut keys, &mut scratch);
+            let mut halves = keys.clone();
+            sort_keys(&mut keys, &mut scratch, false);
             assert_eq!(keys, want, "{n} keys, shape {shape}");
+            sort_keys(&mut halves, &mut scratch, true);
+            assert_eq!(halves, want, "{n} keys, shape {shape}, in halves");
         }
     }
 }
