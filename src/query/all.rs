@@ -357,6 +357,9 @@ pub struct SelfPrep {
     /// the pairs [`SelfPrep::box_pairs`] names): the caller's vertex indices (the first
     /// `k` count), kept with the layout.
     verts: Vec<[u32; 4]>,
+    /// A triangle mesh's corner slots per position (made with the layout): a float mesh's
+    /// triangles are read through them in order (not through `order` and the polygon list).
+    corner_slots: Vec<[u32; 3]>,
     /// The same, corner by corner (`corners[c][x]`: position `x`'s corner `c`; `u32::MAX`
     /// past `k`), and the polygons' corner count `k`: what [`Lanes::split_16`] loads
     /// sixteen at a time. Padded with [`PAD_16`] entries past the last polygon (`u32::MAX`),
@@ -432,6 +435,10 @@ impl SelfPrep {
             m.triangles(*x as usize, &mut t);
             t[0]
         };
+        // A float mesh's corners read straight from its positions (exactly, widened).
+        let slots = &m.slots;
+        let float_tri = |c: &[u32; 3]| c.map(|s| crate::geom::widen(&slots[s as usize]));
+        let float = !m.needs_cpu();
         let triangles = m.vertices_per_polygon() == 3;
         let tw = m.twins();
         let certify = tw.is_some();
@@ -443,14 +450,19 @@ impl SelfPrep {
         self.tris.clear();
         self.turns.clear();
         if par {
-            if triangles {
+            if triangles && float {
+                self.tris
+                    .par_extend(self.corner_slots.par_iter().map(float_tri));
+            } else if triangles {
                 self.tris.par_extend(self.order.par_iter().map(tri));
             }
             if certify {
                 self.turns.par_extend(self.tris.par_iter().map(turn_mask));
             }
         } else {
-            if triangles {
+            if triangles && float {
+                self.tris.extend(self.corner_slots.iter().map(float_tri));
+            } else if triangles {
                 self.tris.extend(self.order.iter().map(tri));
             }
             if certify {
@@ -612,6 +624,14 @@ impl SelfPrep {
         self.fans.renumber(&pos_of);
         let verts: Vec<[u32; 4]> = self.order.iter().map(|&p| self.verts[p as usize]).collect();
         self.verts = verts;
+        self.corner_slots.clear();
+        if triangles {
+            self.corner_slots.extend(
+                self.order
+                    .iter()
+                    .map(|&p| [0, 1, 2].map(|c| m.poly(p as usize)[c])),
+            );
+        }
         self.k = m.vertices_per_polygon();
         for (c, at) in self.corners.iter_mut().enumerate() {
             at.clear();
