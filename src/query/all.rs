@@ -515,12 +515,21 @@ impl SelfPrep {
             self.certified_patches += out.patches.iter().filter(|&&pr| pr != 0).count();
             self.patch_cert.extend(out.patches);
         }
-        // The polygons' boxes: a triangle's from its corners, already made (bounds rounded
-        // outward: the same box as `Mesh::poly_box` for a float mesh, and one holding the
-        // very triangle tested for the others), without reading the mesh again.
+        // The polygons' boxes: a float mesh's triangle's from its corner slots (as
+        // `Mesh::poly_box`, in order); another triangle's from its corners, already made
+        // (bounds rounded outward: a box holding the very triangle tested).
         self.boxes.clear();
         let order = &self.order;
+        let slot_box = |c: &[u32; 3]| {
+            let mut b = Aabb::EMPTY;
+            c.iter().for_each(|&s| b.grow(&slots[s as usize]));
+            b
+        };
         match (triangles, par) {
+            (true, true) if float => self
+                .boxes
+                .par_extend(self.corner_slots.par_iter().map(slot_box)),
+            (true, false) if float => self.boxes.extend(self.corner_slots.iter().map(slot_box)),
             (true, true) => self.boxes.par_extend(self.tris.par_iter().map(corner_box)),
             (true, false) => self.boxes.extend(self.tris.iter().map(corner_box)),
             (false, true) => self
