@@ -360,6 +360,9 @@ pub struct SelfPrep {
     /// A triangle mesh's corner slots per position (made with the layout): a float mesh's
     /// triangles are read through them in order (not through `order` and the polygon list).
     corner_slots: Vec<[u32; 3]>,
+    /// The caller's polygon index per position (made with the layout): what a found pair
+    /// names.
+    ids: Vec<u32>,
     /// The same, corner by corner (`corners[c][x]`: position `x`'s corner `c`; `u32::MAX`
     /// past `k`), and the polygons' corner count `k`: what [`Lanes::split_16`] loads
     /// sixteen at a time. Padded with [`PAD_16`] entries past the last polygon (`u32::MAX`),
@@ -633,6 +636,9 @@ impl SelfPrep {
         self.fans.renumber(&pos_of);
         let verts: Vec<[u32; 4]> = self.order.iter().map(|&p| self.verts[p as usize]).collect();
         self.verts = verts;
+        self.ids.clear();
+        self.ids
+            .extend(self.order.iter().map(|&p| m.poly_ids[p as usize]));
         self.corner_slots.clear();
         if triangles {
             self.corner_slots.extend(
@@ -924,10 +930,9 @@ pub fn self_pairs(
     st.self_adjacent_tests += s.adjacent.len();
     st.self_narrow_tests += s.apart.len();
     let found = out.len();
-    let order = &prep.order;
+    let ids = &prep.ids;
     let mut push = |p: u32, q: u32| {
-        let (p, q) = (order[p as usize] as usize, order[q as usize] as usize);
-        let (pa, pb) = (m.poly_ids[p], m.poly_ids[q]);
+        let (pa, pb) = (ids[p as usize], ids[q as usize]);
         out.push(Pair {
             mesh_a: id,
             polygon_a: pa.min(pb),
