@@ -357,18 +357,18 @@ pub struct SelfPrep {
     /// the pairs [`SelfPrep::box_pairs`] names): the caller's vertex indices (the first
     /// `k` count), kept with the layout.
     verts: Vec<[u32; 4]>,
-    /// A triangle mesh's corner slots per position (made with the layout): a float mesh's
-    /// triangles are read through them in order (not through `order` and the polygon list).
-    corner_slots: Vec<[u32; 3]>,
-    /// The caller's polygon index per position (made with the layout): what a found pair
-    /// names.
-    ids: Vec<u32>,
     /// The same, corner by corner (`corners[c][x]`: position `x`'s corner `c`; `u32::MAX`
     /// past `k`), and the polygons' corner count `k`: what [`Lanes::split_16`] loads
     /// sixteen at a time. Padded with [`PAD_16`] entries past the last polygon (`u32::MAX`),
     /// as is `fan_bits` (0).
     corners: [Vec<u32>; 4],
     k: usize,
+    /// A triangle mesh's corner slots per position (made with the layout): a float mesh's
+    /// triangles are read through them in order (not through `order` and the polygon list).
+    corner_slots: Vec<[u32; 3]>,
+    /// The caller's polygon index per position (made with the layout): what a found pair
+    /// names.
+    ids: Vec<u32>,
     /// Triangle meshes: per polygon, its corners in `f64` (a plane is made only for the
     /// few neighbour pairs the fans leave to a test).
     tris: Vec<[P3; 3]>,
@@ -379,9 +379,10 @@ pub struct SelfPrep {
     /// oriented edges). A patch is one connected piece (by shared edges) of one leaf; each
     /// sub-leaf lies in one patch (`sub_patch`). Per patch: its usable projections
     /// ([`turn_mask`]; 0: not proven) when it is proven free of self-intersection. Parts
-    /// of pieces are not tried ([`PieceLayout`]), nor two patches together (their union's loop cost more than the
-    /// pairs it saved once the fans decide neighbour pairs: rolled cloth 28.7 -> 23.8-25.6
-    /// ms, rods 62-64 -> 61, cloth-funnel 5.5-5.7 -> 4.8-4.9, armadillo 9.8-10.2 -> 8.6-8.7).
+    /// of pieces are not tried ([`PieceLayout`]), nor two patches together (their union's
+    /// loop cost more than the pairs it saved once the fans decide neighbour pairs: rolled
+    /// cloth 28.7 -> 23.8-25.6 ms, rods 62-64 -> 61, cloth-funnel 5.5-5.7 -> 4.8-4.9,
+    /// armadillo 9.8-10.2 -> 8.6-8.7).
     sub_patch: Vec<u32>,
     patch_cert: Vec<u8>,
     /// Per leaf-order triangle: [`turn_mask`].
