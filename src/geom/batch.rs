@@ -1,9 +1,11 @@
 //! Triangle pairs gathered into lanes for a kernel: the exact test (epsilon 0) eight at a
 //! time on a CPU with AVX-512F ([`crate::geom::tritri::eight::intersect`]), four at a
-//! time on one with AVX2 and FMA only ([`crate::geom::tritri::four::intersect`]); the band
-//! test (epsilon > 0, [`crate::geom::volume::four::band`]) four at a time. Each kernel
-//! decides the lanes whose answer floating point certifies; the caller's scalar test
-//! ([`Judge::scalar`]) decides the others, so the answers are the scalar path's.
+//! time on one with AVX2 and FMA only ([`crate::geom::tritri::four::intersect`]), the
+//! pairs of two triangles in one coordinate plane in batches of their own, for the test in
+//! that plane ([`crate::geom::tritri::axis_plane`], as wide); the band test (epsilon > 0,
+//! [`crate::geom::volume::four::band`]) four at a time. Each kernel decides the lanes
+//! whose answer floating point certifies; the caller's scalar test ([`Judge::scalar`])
+//! decides the others, so the answers are the scalar path's.
 //!
 //! The pairs' triangles are written straight into lanes ([`TriLanes`]: each coordinate
 //! stored once, where the kernel loads it), and a batch's answers are read from its masks
@@ -11,6 +13,7 @@
 
 use crate::geom::lanes::{TriLanes, LANES};
 use crate::geom::predicates::P3;
+use crate::geom::tritri::shared_axis_plane;
 
 /// Which test the lanes run.
 #[derive(Clone, Copy, Debug)]
@@ -51,6 +54,17 @@ impl<K: Copy + Default, const N: usize> Batch<K, N> {
         self.n == N
     }
 
+    /// [`Batch::push`] of two triangles in the coordinate plane that drops axis `ax`,
+    /// projected on it ([`TriLanes::set_plane`]).
+    #[inline(always)]
+    fn push_plane(&mut self, key: K, a: &[P3; 3], b: &[P3; 3], ax: usize) -> bool {
+        self.a.set_plane(self.n, a, ax);
+        self.b.set_plane(self.n, b, ax);
+        self.at[self.n] = key;
+        self.n += 1;
+        self.n == N
+    }
+
     /// Unused lanes repeat the first (their answers are dropped).
     fn pad(&mut self) {
         self.a.pad(self.n);
@@ -78,8 +92,12 @@ impl<K: Copy + Default, const N: usize> Batch<K, N> {
 
 /// Triangle pairs gathered into lanes for a [`Kernel`] (four at a time, or eight for the
 /// exact test on a CPU with AVX-512F). A value exists only on a CPU with AVX2 and FMA
-/// ([`Fours::new`] checks; and it runs the eight-lane kernel only where AVX-512F was
+/// ([`Fours::new`] checks; and it runs the eight-lane kernels only where AVX-512F was
 /// found), so its methods are safe.
+///
+/// The exact test gathers the pairs of two triangles in one coordinate plane (a flat
+/// sheet: every orientation of the 3D test is exactly 0 there, and its lanes would leave
+/// all of them to the scalar test) into batches of their own, for the test in that plane.
 ///
 /// The band test runs in two stages: a cheap test of every batch
 /// ([`band_far`](crate::geom::volume::four::band_far): corners beyond one plane of a
@@ -92,9 +110,12 @@ pub(crate) struct Fours<K: Copy + Default> {
     eight: bool,
     /// The exact test's batches on eight lanes.
     wide: Batch<K, 8>,
+    /// The exact test's batches of pairs in one coordinate plane, on eight lanes.
+    wide_plane: Batch<K, 8>,
     /// The exact test's batches on four lanes; the band test's first stage.
     first: Batch<K, LANES>,
-    /// The band test's second stage.
+    /// The exact test's batches of pairs in one coordinate plane, on four lanes; the band
+    /// test's second stage.
     second: Batch<K, LANES>,
 }
 
@@ -112,6 +133,7 @@ impl<K: Copy + Default> Fours<K> {
                 kernel,
                 eight: eight && std::is_x86_feature_detected!("avx512f"),
                 wide: Batch::new(),
+                wide_plane: Batch::new(),
                 first: Batch::new(),
                 second: Batch::new(),
             }
@@ -126,26 +148,47 @@ impl<K: Copy + Default> Fours<K> {
         keys: impl Iterator<Item = K> + Clone,
         judge: &mut impl Judge<K>,
     ) {
-        use crate::geom::tritri::{eight, four};
+        use crate::geom::tritri::{axis_plane, eight, four};
         use crate::geom::volume::four::{band, band_far};
         let Fours {
             kernel,
             eight: on_eight,
             wide,
+            wide_plane,
             first,
             second,
         } = self;
         match *kernel {
-            Kernel::Exact if *on_eight => gather(wide, keys, judge, |b, judge| {
-                // SAFETY: the CPU has AVX-512F (`eight` is set only then, `with`).
-                let (decided, meets) = unsafe { eight::intersect(&b.a, &b.b) };
-                b.answer(decided, meets, judge);
-            }),
-            Kernel::Exact => gather(first, keys, judge, |b, judge| {
-                // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`with`).
-                let (decided, meets) = unsafe { four::intersect(&b.a, &b.b) };
-                b.answer(decided, meets, judge);
-            }),
+            Kernel::Exact if *on_eight => gather_exact(
+                [wide, wide_plane],
+                keys,
+                judge,
+                |b, judge| {
+                    // SAFETY: the CPU has AVX-512F (`eight` is set only then, `with`).
+                    let (decided, meets) = unsafe { eight::intersect(&b.a, &b.b) };
+                    b.answer(decided, meets, judge);
+                },
+                |b, judge| {
+                    // SAFETY: as above.
+                    let (decided, meets) = unsafe { axis_plane::eight(&b.a, &b.b) };
+                    b.answer(decided, meets, judge);
+                },
+            ),
+            Kernel::Exact => gather_exact(
+                [first, second],
+                keys,
+                judge,
+                |b, judge| {
+                    // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`with`).
+                    let (decided, meets) = unsafe { four::intersect(&b.a, &b.b) };
+                    b.answer(decided, meets, judge);
+                },
+                |b, judge| {
+                    // SAFETY: as above.
+                    let (decided, meets) = unsafe { axis_plane::four(&b.a, &b.b) };
+                    b.answer(decided, meets, judge);
+                },
+            ),
             Kernel::Band { h, both } => {
                 gather(first, keys, judge, |b, judge| {
                     // SAFETY: as above.
@@ -209,6 +252,55 @@ fn gather<K: Copy + Default, const N: usize, J: Judge<K>>(
     }
 }
 
+/// [`gather`] for the exact test: the pairs of two triangles in one coordinate plane
+/// ([`shared_axis_plane`]) into the lanes of `plane`, projected on it, `run_plane` on each
+/// of its full batches and on its last one; the other pairs of two triangles into the
+/// lanes of `space`, for `run_space`.
+#[inline(always)]
+fn gather_exact<K: Copy + Default, const N: usize, J: Judge<K>>(
+    [space, plane]: [&mut Batch<K, N>; 2],
+    keys: impl Iterator<Item = K> + Clone,
+    judge: &mut J,
+    mut run_space: impl FnMut(&mut Batch<K, N>, &mut J),
+    mut run_plane: impl FnMut(&mut Batch<K, N>, &mut J),
+) {
+    // As in `gather`.
+    const AHEAD: usize = 16;
+    let mut ahead = keys.clone().skip(AHEAD);
+    for key in keys {
+        if let Some(next) = ahead.next() {
+            judge.prefetch(next);
+        }
+        match judge.triangles(key) {
+            Some([ta, tb]) => match shared_axis_plane(ta, tb) {
+                None => {
+                    if space.push(key, ta, tb) {
+                        run_space(space, judge);
+                    }
+                }
+                Some(ax) => {
+                    if plane.push_plane(key, ta, tb, ax) {
+                        run_plane(plane, judge);
+                    }
+                }
+            },
+            None => {
+                if judge.scalar(key) {
+                    judge.found(key);
+                }
+            }
+        }
+    }
+    if space.n > 0 {
+        space.pad();
+        run_space(space, judge);
+    }
+    if plane.n > 0 {
+        plane.pad();
+        run_plane(plane, judge);
+    }
+}
+
 /// What [`Fours::decide`] asks of its caller about each pair (named by a key).
 pub(crate) trait Judge<K> {
     /// When both polygons of the pair are triangles (then the lanes may decide it): the
@@ -241,7 +333,8 @@ mod tests {
         pairs: Vec<[[P3; 3]; 2]>,
         band: Option<f64>,
         found: Vec<usize>,
-        scalar: usize,
+        /// The pairs asked of the scalar test.
+        scalar: Vec<usize>,
     }
 
     impl Judge<usize> for Pairs {
@@ -250,7 +343,7 @@ mod tests {
             (key % 10 != 3).then_some([a, b])
         }
         fn scalar(&mut self, key: usize) -> bool {
-            self.scalar += 1;
+            self.scalar.push(key);
             let [a, b] = &self.pairs[key];
             match self.band {
                 None => triangles_intersect(a, b),
@@ -266,26 +359,41 @@ mod tests {
     }
 
     /// A pair: random (about half crossing), on a coarse grid (shared vertices, coplanar
-    /// and flat triangles: left to the scalar test), or within about `0.05` of each other.
+    /// and flat triangles: left to the scalar test), within about `0.05` of each other, or
+    /// both in one coordinate plane (`x`, `y` or `z` = 0.25): random there (for the lanes
+    /// of that plane), or on a coarse grid of it (shared vertices, touching and flat
+    /// triangles: left to the scalar test).
     fn pair(rng: &mut Rng, kind: usize) -> [[P3; 3]; 2] {
+        let ax = rng.below(3);
         let mut t = || -> [P3; 3] {
             std::array::from_fn(|_| match kind {
                 0 => rng.v(1.0),
                 1 => [0, 1, 2].map(|_| rng.below(3) as f64),
-                _ => [rng.f(), rng.f(), rng.f() * 0.05],
+                2 => [rng.f(), rng.f(), rng.f() * 0.05],
+                3 | 4 => {
+                    let mut p = [0, 1, 2].map(|_| match kind {
+                        3 => rng.f(),
+                        _ => rng.below(3) as f64 * 0.5,
+                    });
+                    p[ax] = 0.25;
+                    p
+                }
+                _ => unreachable!(),
             })
         };
         [t(), t()]
     }
 
     /// The whole path (gathering, the lanes, the scalar test for the lanes left undecided
-    /// and for quads, the last batch padded) finds what the scalar test finds, each pair
-    /// once: the exact test on eight lanes (where the CPU has AVX-512F) and on four, and
-    /// the band test, over a number of pairs that is not a multiple of eight.
+    /// and for quads, the last batch of each kernel padded) finds what the scalar test
+    /// finds, each pair once: the exact test on eight lanes (where the CPU has AVX-512F)
+    /// and on four, with the pairs in one coordinate plane in batches of their own, and
+    /// the band test, over a number of pairs that is not a multiple of eight. The exact
+    /// test's lanes decide most random pairs in one coordinate plane.
     #[test]
     fn decides_as_the_scalar_test() {
         let mut rng = Rng(0x0BA7_C4E5_u64);
-        let pairs: Vec<_> = (0..4_001).map(|i| pair(&mut rng, i % 3)).collect();
+        let pairs: Vec<_> = (0..4_001).map(|i| pair(&mut rng, i % 5)).collect();
         for (kernel, eight) in [
             (Kernel::Exact, true),
             (Kernel::Exact, false),
@@ -312,25 +420,33 @@ mod tests {
                 pairs: pairs.clone(),
                 band,
                 found: Vec::new(),
-                scalar: 0,
+                scalar: Vec::new(),
             };
             let want: Vec<usize> = (0..pairs.len()).filter(|&k| judge.scalar(k)).collect();
-            judge.scalar = 0;
+            judge.scalar.clear();
             fours.decide(0..pairs.len(), &mut judge);
             let mut found = std::mem::take(&mut judge.found);
             found.sort_unstable();
             assert_eq!(found, want, "{kernel:?}, eight lanes: {}", fours.eight);
             // The lanes decided most pairs, and left some (and the quads) to the scalar
             // test.
+            let scalar = judge.scalar.len();
+            // The random pairs in one coordinate plane (not standing for quads).
+            let plane = |k: &usize| k % 5 == 3 && k % 10 != 3;
+            let plane_pairs = (0..pairs.len()).filter(plane).count();
+            let plane_scalar = judge.scalar.iter().filter(|k| plane(k)).count();
             println!(
-                "{kernel:?} (eight lanes: {}): {} of {} pairs meet, {} by the scalar test",
+                "{kernel:?} (eight lanes: {}): {} of {} pairs meet, {scalar} by the scalar \
+                 test, {plane_scalar} of the {plane_pairs} random in a coordinate plane",
                 fours.eight,
                 want.len(),
                 pairs.len(),
-                judge.scalar
             );
             assert!(want.len() > 500 && want.len() < pairs.len() - 500);
-            assert!(judge.scalar > pairs.len() / 10 && judge.scalar < pairs.len() / 2);
+            assert!(scalar > pairs.len() / 10 && scalar < pairs.len() / 2);
+            if let Kernel::Exact = kernel {
+                assert!(plane_pairs > 300 && plane_scalar * 20 < plane_pairs);
+            }
         }
     }
 }

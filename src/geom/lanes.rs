@@ -1,24 +1,25 @@
 //! Four `f64` lanes in AVX2 registers (x86-64 only): the types the geometry kernels that
 //! work on four triangle pairs at once are written with (`contact/four.rs`: contact
-//! geometry; `tritri/four.rs`: the exact intersection test, and `volume/four.rs`: the band
-//! test, where floating point certifies them). Every operation is one IEEE
-//! operation per lane (no fused multiply-add unless asked for), so a kernel gives in each
-//! lane what the same scalar code gives.
+//! geometry; `tritri/four.rs`: the exact intersection test, `tritri/axis_plane.rs`: the
+//! same for two triangles in one coordinate plane, and `volume/four.rs`: the band test,
+//! where floating point certifies them). Every operation is one IEEE operation per lane
+//! (no fused multiply-add unless asked for), so a kernel gives in each lane what the same
+//! scalar code gives.
 //!
 //! Written with `std::arch` rather than arrays left to the compiler's vectorizer: an array
 //! version of the contact kernel came out half scalar (shuffles and spills) and slower than
 //! the scalar code it copies. A kernel must not use closures: a closure is compiled as its
 //! own function, without AVX2, and every intrinsic in it then becomes a call.
 //!
-//! A kernel written for any lane width ([`crate::geom::tritri::four`]'s exact test, which
-//! runs on eight AVX-512 lanes too) is written with the traits [`Float`] and [`Mask`],
-//! which these types and those of [`super::lanes8`] implement, and with [`W`] and
-//! [`Plane`] over them.
+//! A kernel written for any lane width ([`crate::geom::tritri::four`]'s exact test and
+//! [`crate::geom::tritri::axis_plane`]'s, which run on eight AVX-512 lanes too) is
+//! written with the traits [`Float`] and [`Mask`], which these types and those of
+//! [`super::lanes8`] implement, and with [`W`] and [`Plane`] over them.
 
 use std::arch::x86_64::*;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use super::predicates::P3;
+use super::predicates::{drop_axis, P3};
 
 /// Lanes per vector.
 pub(crate) const LANES: usize = 4;
@@ -45,6 +46,8 @@ pub(crate) trait Float:
     }
     /// `self == y` per lane (ordered: false where either is NaN).
     fn eq(self, y: Self) -> Self::Mask;
+    /// `self > y ? self : y` per lane (`maxpd`: `y` where either is NaN).
+    fn max(self, y: Self) -> Self;
 }
 
 /// The lane masks of a [`Float`] (set or clear per lane).
@@ -186,6 +189,12 @@ impl Float for F {
     fn eq(self, y: F) -> M {
         // SAFETY: the invariant.
         unsafe { M(_mm256_cmp_pd::<_CMP_EQ_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn max(self, y: F) -> F {
+        // SAFETY: the invariant.
+        unsafe { F(_mm256_max_pd(self.0, y.0)) }
     }
 }
 
@@ -384,6 +393,19 @@ impl<const N: usize> TriLanes<N> {
         }
     }
 
+    /// Lane `l`'s triangle becomes `t` projected on the coordinate plane that drops axis
+    /// `ax` (a triangle in that plane, as [`drop_axis`] projects it), its two coordinates
+    /// as `x` and `y`; `z` is left as it was. For the kernels of pairs in one coordinate
+    /// plane, which load `x` and `y` only.
+    #[inline(always)]
+    pub(crate) fn set_plane(&mut self, l: usize, t: &[P3; 3], ax: usize) {
+        for (k, v) in t.iter().enumerate() {
+            let [x, y] = drop_axis(v, ax);
+            self.0[k][0][l] = x;
+            self.0[k][1][l] = y;
+        }
+    }
+
     /// Lane `l`'s triangle.
     #[inline(always)]
     pub(crate) fn get(&self, l: usize) -> [P3; 3] {
@@ -411,6 +433,34 @@ impl TriLanes {
         // (No closures: see the module's note.)
         // SAFETY: the caller's promise.
         unsafe { [self.vertex(0), self.vertex(1), self.vertex(2)] }
+    }
+
+    /// The lanes' `x` and `y` as vectors, per vertex (triangles stored by
+    /// [`TriLanes::set_plane`]).
+    ///
+    /// # Safety
+    /// The CPU has AVX2 and FMA.
+    #[inline(always)]
+    pub(crate) unsafe fn load_plane(&self) -> [[F; 2]; 3] {
+        let v = &self.0;
+        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (as in
+        // `vertex`).
+        unsafe {
+            [
+                [
+                    F(_mm256_load_pd(v[0][0].as_ptr())),
+                    F(_mm256_load_pd(v[0][1].as_ptr())),
+                ],
+                [
+                    F(_mm256_load_pd(v[1][0].as_ptr())),
+                    F(_mm256_load_pd(v[1][1].as_ptr())),
+                ],
+                [
+                    F(_mm256_load_pd(v[2][0].as_ptr())),
+                    F(_mm256_load_pd(v[2][1].as_ptr())),
+                ],
+            ]
+        }
     }
 
     /// # Safety

@@ -1,9 +1,9 @@
 //! Eight `f64` lanes in AVX-512 registers (x86-64 only), with mask registers for the lane
 //! masks: the [`Float`] and [`Mask`] of the kernels written for any lane width
 //! ([`crate::geom::tritri::four`]'s exact test, which [`crate::geom::tritri::eight`] runs
-//! on eight lanes). Every operation is one IEEE operation per lane, the same as on the four
-//! lanes of [`super::lanes`], so a kernel gives each lane the same answer at either width.
-//! Only AVX-512F instructions are used. As in [`super::lanes`], a kernel must not use
+//! on eight lanes, and [`crate::geom::tritri::axis_plane`]'s). Every operation is one IEEE
+//! operation per lane, the same as on the four lanes of [`super::lanes`], so a kernel
+//! gives each lane the same answer at either width. Only AVX-512F instructions are used. As in [`super::lanes`], a kernel must not use
 //! closures (a closure is compiled without AVX-512, and every intrinsic in it then becomes
 //! a call).
 
@@ -49,6 +49,12 @@ impl Float for F8 {
     fn eq(self, y: F8) -> M8 {
         // SAFETY: the invariant.
         unsafe { M8(_mm512_cmp_pd_mask::<_CMP_EQ_OQ>(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    fn max(self, y: F8) -> F8 {
+        // SAFETY: the invariant.
+        unsafe { F8(_mm512_max_pd(self.0, y.0)) }
     }
 }
 
@@ -134,6 +140,34 @@ impl TriLanes<8> {
         // (No closures: see the module's note.)
         // SAFETY: the caller's promise.
         unsafe { [self.vertex(0), self.vertex(1), self.vertex(2)] }
+    }
+
+    /// The lanes' `x` and `y` as vectors, per vertex (triangles stored by
+    /// [`TriLanes::set_plane`]).
+    ///
+    /// # Safety
+    /// The CPU has AVX-512F.
+    #[inline(always)]
+    pub(crate) unsafe fn load_plane(&self) -> [[F8; 2]; 3] {
+        let v = &self.0;
+        // SAFETY: the caller's promise; each row is eight f64 aligned to 64 bytes (as in
+        // `vertex`).
+        unsafe {
+            [
+                [
+                    F8(_mm512_load_pd(v[0][0].as_ptr())),
+                    F8(_mm512_load_pd(v[0][1].as_ptr())),
+                ],
+                [
+                    F8(_mm512_load_pd(v[1][0].as_ptr())),
+                    F8(_mm512_load_pd(v[1][1].as_ptr())),
+                ],
+                [
+                    F8(_mm512_load_pd(v[2][0].as_ptr())),
+                    F8(_mm512_load_pd(v[2][1].as_ptr())),
+                ],
+            ]
+        }
     }
 
     /// # Safety

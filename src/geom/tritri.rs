@@ -9,6 +9,8 @@
 use super::predicates::{collinear, drop_axis, orient2d, orient2d_filtered, orient3d, P3};
 
 #[cfg(target_arch = "x86_64")]
+pub(crate) mod axis_plane;
+#[cfg(target_arch = "x86_64")]
 pub(crate) mod eight;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod four;

@@ -18,7 +18,7 @@ use crate::geom::fan::Fans;
 use crate::geom::patch::{mask_axis, turn_mask, Loop, PatchCheck, NONE};
 use crate::geom::polygon::Prepared;
 use crate::geom::sweep::Sweep;
-use crate::geom::tritri::{apart_in_projection, in_one_axis_plane, shared_axis_plane, Plane};
+use crate::geom::tritri::{apart_in_projection, in_one_axis_plane, Plane};
 use crate::geom::volume::Cell;
 use crate::geom::P3;
 use crate::geom::{f32_down, f32_up, Aabb};
@@ -1032,8 +1032,9 @@ impl<F: FnMut(u32, u32)> Apart<'_, F> {
         let (p, q, h) = (p as usize, q as usize, self.h);
         if let (Some(t), 0.0) = (self.tris, h) {
             // Two triangles in one coordinate plane (a flat sheet, a box, a floor): decided
-            // in that plane, before preparing either polygon (the lanes leave every such
-            // pair undecided: all their orientations are 0).
+            // in that plane, before preparing either polygon (the lanes of the test in
+            // that plane leave such a pair undecided when a vertex is on or near the
+            // other's edge line, or a triangle is flat).
             if let Some(meet) = in_one_axis_plane(&t[p], &t[q]) {
                 return meet;
             }
@@ -1069,14 +1070,9 @@ impl<F: FnMut(u32, u32)> crate::geom::batch::Judge<(u32, u32)> for Apart<'_, F> 
     #[inline(always)]
     fn triangles(&mut self, (p, q): (u32, u32)) -> Option<[&[P3; 3]; 2]> {
         if let Some(t) = self.tris {
-            let (tp, tq) = (&t[p as usize], &t[q as usize]);
-            // Both in one coordinate plane (a flat sheet, a box, a floor): every
-            // orientation in the lanes would be 0, so straight to the scalar test's 2D
-            // decision.
-            if self.h == 0.0 && shared_axis_plane(tp, tq).is_some() {
-                return None;
-            }
-            return Some([tp, tq]);
+            // (Two in one coordinate plane, a flat sheet's, go to the lanes of the exact
+            // test in that plane.)
+            return Some([&t[p as usize], &t[q as usize]]);
         }
         let (m, order) = (self.m, self.order);
         let ip = self
