@@ -80,13 +80,7 @@ mod tests {
     /// (as a scene's pairs), equal keys, short lists (the comparison path) and long ones.
     #[test]
     fn sorts_as_the_standard_sort() {
-        let mut s = 5u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            s
-        };
+        let mut rng = crate::geom::test_rng::Rng(5);
         let mut scratch = Vec::new();
         for (n, shape) in [
             (10, 0),
@@ -98,7 +92,7 @@ mod tests {
         ] {
             let mut keys: Vec<u128> = (0..n)
                 .map(|_| {
-                    let (a, b) = (u128::from(rnd()), u128::from(rnd()));
+                    let (a, b) = (u128::from(rng.next()), u128::from(rng.next()));
                     match shape {
                         0 => a << 64 | b,
                         // Mesh ids 3 and 7, polygons below 2^17.

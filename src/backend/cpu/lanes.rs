@@ -951,21 +951,15 @@ mod tests {
     /// `proven`.
     #[test]
     fn split_16_matches_a_brute_force_split() {
-        let mut s = 11u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            s >> 11
-        };
+        let mut rng = crate::geom::test_rng::Rng(11);
         let n = 53;
         let boxes: Vec<Aabb> = (0..n)
             .map(|i| {
-                let x = 0.25 * i as f32 + (rnd() % 100) as f32 / 100.0;
-                let y = (rnd() % 100) as f32 / 100.0;
+                let x = 0.25 * i as f32 + rng.below(100) as f32 / 100.0;
+                let y = rng.below(100) as f32 / 100.0;
                 Aabb {
                     min: [x, y, 0.0],
-                    max: [x + 1.5, y + 0.8, (rnd() % 2) as f32],
+                    max: [x + 1.5, y + 0.8, rng.below(2) as f32],
                 }
             })
             .collect();
@@ -980,12 +974,12 @@ mod tests {
                 .map(|_| {
                     let mut v = [u32::MAX; 4];
                     for x in &mut v[..k] {
-                        *x = (rnd() % 24) as u32;
+                        *x = rng.below(24) as u32;
                     }
                     v
                 })
                 .collect();
-            let fan_bits: Vec<u8> = (0..n + 16).map(|_| (rnd() % 8) as u8).collect();
+            let fan_bits: Vec<u8> = (0..n + 16).map(|_| rng.below(8) as u8).collect();
             let corners: Vec<Vec<u32>> = (0..4)
                 .map(|c| {
                     (0..n + 16)
