@@ -254,9 +254,11 @@ impl Lanes {
             return;
         }
         #[cfg(target_arch = "x86_64")]
-        if let Some((run, keep)) = self.sixteen(&range) {
-            // SAFETY: `sixteen` answers only where the CPU supports AVX-512F and POPCNT;
-            // `run` holds sixteen boxes (the padding included).
+        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
+            let keep = (1u32 << range.len()) - 1;
+            let run = self.run(range.start..range.start + 2 * LANES);
+            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds sixteen
+            // boxes (the padding included).
             return unsafe {
                 pairs_16_avx512(&run, cands, keep, upper, range.start as u32, c0, out)
             };
@@ -294,11 +296,12 @@ impl Lanes {
             return 0;
         }
         #[cfg(target_arch = "x86_64")]
-        if let Some((run, keep)) = self.sixteen(&range) {
+        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
+            let keep = (1u32 << range.len()) - 1;
+            let run = self.run(range.start..range.start + 2 * LANES);
             let first = range.start as u32;
-            // SAFETY: `sixteen` answers only where the CPU supports AVX-512F and POPCNT;
-            // `run` holds sixteen boxes, `near` sixteen polygons' corners and fans
-            // (asserted above).
+            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds
+            // sixteen boxes, `near` sixteen polygons' corners and fans (asserted above).
             return unsafe {
                 if near.k == 3 {
                     split_16_avx512::<3>(&run, cands, keep, upper, first, c0, near, apart, adjacent)
@@ -308,19 +311,6 @@ impl Lanes {
             };
         }
         self.split_16_plain(range, cands, c0, upper, near, apart, adjacent)
-    }
-
-    /// Where the CPU has AVX-512F and POPCNT (the sixteen-lane kernels'): the sixteen
-    /// boxes from `range.start` (padding included) and the bits of `range` among them.
-    #[cfg(target_arch = "x86_64")]
-    #[inline]
-    fn sixteen(&self, range: &std::ops::Range<usize>) -> Option<([&[f32]; 6], u32)> {
-        let avx512 =
-            std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt");
-        avx512.then(|| {
-            let run = self.run(range.start..range.start + 2 * LANES);
-            (run, (1u32 << range.len()) - 1)
-        })
     }
 
     /// [`Lanes::split_16`] pair by pair (any CPU).
