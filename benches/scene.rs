@@ -517,7 +517,7 @@ fn main() {
     }
     println!(
         "\nStages of the median query, ms (worker stages: CPU time summed over the workers); \
-         counts: mesh pairs, self leaf pairs, self box pairs (adjacent by fans / adjacent tested / quick / apart), found\n"
+         counts: mesh pairs, self leaf pairs, self box pairs (adjacent by fans / adjacent tested / quick / apart / apart along a diagonal, not tested), found\n"
     );
     println!(
         "| scene | epsilon | threads | total | broad | self leaf pairs | workers (wall) | \
@@ -529,7 +529,7 @@ fn main() {
         let p = st.pair_step_nanos;
         println!(
             "| {name} | {eps} | {threads} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | \
-             {} mp, {} lp, {} bp ({} / {} / {} / {}), {} + {} found; proven {} patches, {} fans |",
+             {} mp, {} lp, {} bp ({} / {} / {} / {} / {}), {} + {} found; proven {} patches, {} fans |",
             ms(st.total_nanos),
             ms(st.broad_nanos),
             ms(st.self_leaf_nanos),
@@ -548,6 +548,7 @@ fn main() {
             st.self_adjacent_tests,
             st.self_adjacent_quick,
             st.self_narrow_tests,
+            st.self_box_culled,
             st.self_found,
             st.pair_found,
             st.self_cert_patches,

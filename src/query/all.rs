@@ -11,7 +11,7 @@
 //!   polygons that share a vertex index are decided by [`adjacent_polygons_meet`] (they
 //!   count only where they meet beyond what they share, at every epsilon).
 
-use crate::backend::cpu::lanes::{Lanes, Near16};
+use crate::backend::cpu::lanes::{Diag, Lanes, Near16};
 use crate::backend::Pair;
 use crate::geom::adjacent::{adjacent_polygons_meet, triangles_touch_only_at_joint_planes};
 use crate::geom::fan::Fans;
@@ -347,6 +347,12 @@ pub struct SelfPrep {
     /// pairs are tested eight at a time too).
     sub_boxes: Vec<Aabb>,
     sub_grown: Lanes,
+    /// At epsilon 0, a triangle mesh's bounds along six diagonal directions ([`Diag`]),
+    /// per polygon and per sub-leaf: pairs of either apart along one are never listed.
+    /// Empty otherwise (a band's viewing volumes reach beyond a polygon's diagonal bounds
+    /// by more than its box's growth says).
+    diag: Diag,
+    sub_diag: Diag,
     /// The sub-leaves holding a vertex index of sub-leaf `s` (itself included), ascending:
     /// `sub_near[sub_near_start[s]..sub_near_start[s + 1]]` (made with the layout). Two
     /// sub-leaves not so related have no pair sharing a vertex: all their box pairs go to
@@ -560,6 +566,27 @@ impl SelfPrep {
                 .extend(self.sub_start.windows(2).map(sub_box));
         }
         self.sub_grown.set_grown(&self.sub_boxes, h, par);
+        if h == 0.0 && triangles {
+            if float {
+                self.diag.set_corners(slots, &self.corner_slots, par);
+            } else {
+                self.diag.set_triangles(&self.tris, par);
+            }
+            self.sub_diag.set_union(&self.diag, &self.sub_start, par);
+        } else {
+            self.diag = Diag::default();
+            self.sub_diag = Diag::default();
+        }
+    }
+
+    /// The diagonal bounds of the polygons and of the sub-leaves, when made.
+    #[inline]
+    fn diags(&self) -> (Option<&Diag>, Option<&Diag>) {
+        if self.diag.len() == 0 {
+            (None, None)
+        } else {
+            (Some(&self.diag), Some(&self.sub_diag))
+        }
     }
 
     /// The layout of mesh `m` (the first query of this mesh): each leaf's pieces, sub-leaf
@@ -727,7 +754,8 @@ impl SelfPrep {
         mut proven_subs: impl FnMut(usize, usize) -> bool,
         apart: &mut Vec<[u32; 2]>,
         adjacent: &mut Vec<[u32; 2]>,
-    ) -> usize {
+    ) -> (usize, usize) {
+        let (diag, sub_diag) = self.diags();
         let (si, sj) = (
             self.leaf_sub[i] as usize..self.leaf_sub[i + 1] as usize,
             self.leaf_sub[j] as usize..self.leaf_sub[j + 1] as usize,
@@ -749,10 +777,10 @@ impl SelfPrep {
                 let cands = &self.sub_boxes[rb];
                 let upper = i == j && a == b;
                 self.sub_grown
-                    .pairs_16(ra.clone(), cands, b as u32, upper, subs);
+                    .pairs_16(ra.clone(), cands, b as u32, upper, sub_diag, subs);
             }
         }
-        let mut fans = 0;
+        let (mut fans, mut culled) = (0, 0);
         for &[a, b] in subs.iter() {
             let (a, b) = (a as usize, b as usize);
             let proven = proven_subs(a, b);
@@ -762,8 +790,9 @@ impl SelfPrep {
             let rb = self.sub(b);
             let cands = &self.boxes[rb.clone()];
             if !self.near(a, b) {
-                self.lanes
-                    .pairs_16(self.sub(a), cands, rb.start as u32, a == b, apart);
+                culled +=
+                    self.lanes
+                        .pairs_16(self.sub(a), cands, rb.start as u32, a == b, diag, apart);
                 continue;
             }
             let at = self.sub_start[a] as usize..;
@@ -779,9 +808,10 @@ impl SelfPrep {
                 fans: &self.fan_bits[at],
                 cand: &self.verts[rb.clone()],
                 proven,
+                diag,
             };
             // Within one sub-leaf, candidate `y` against the boxes after it only.
-            fans += self.lanes.split_16(
+            let (f, c) = self.lanes.split_16(
                 self.sub(a),
                 cands,
                 rb.start as u32,
@@ -790,8 +820,10 @@ impl SelfPrep {
                 apart,
                 adjacent,
             );
+            fans += f;
+            culled += c;
         }
-        fans
+        (fans, culled)
     }
 }
 
@@ -837,8 +869,12 @@ pub struct AllStats {
     pub pair_found: usize,
     /// Self-collision: polygon boxes and polygon box pairs of the leaf pairs, ns.
     pub self_box_nanos: u64,
-    /// Self-collision: polygon pairs whose boxes meet (`p < q`).
+    /// Self-collision: polygon pairs whose boxes meet (`p < q`), in sub-leaf pairs whose
+    /// boxes and diagonal bounds meet.
     pub self_box_pairs: usize,
+    /// Of them, pairs apart along a diagonal direction (epsilon 0, triangles; see
+    /// `backend::cpu::lanes::Diag`): not tested.
+    pub self_box_culled: usize,
     /// Self-collision: time and count of adjacency decisions (pairs sharing a vertex).
     pub self_adjacent_nanos: u64,
     /// Pairs sharing a vertex index whose boxes meet.
@@ -873,6 +909,7 @@ impl AllStats {
         self.pair_found += o.pair_found;
         self.self_box_nanos += o.self_box_nanos;
         self.self_box_pairs += o.self_box_pairs;
+        self.self_box_culled += o.self_box_culled;
         self.self_adjacent_nanos += o.self_adjacent_nanos;
         self.self_adjacent_tests += o.self_adjacent_tests;
         self.self_adjacent_quick += o.self_adjacent_quick;
@@ -906,7 +943,7 @@ pub fn self_pairs(
     s.apart.clear();
     let k = m.vertices_per_polygon();
     let exact = h == 0.0;
-    let mut fans = 0;
+    let (mut fans, mut culled) = (0, 0);
     for &(i, j) in leaf_pairs {
         // Two sub-leaves are proven together when they lie in one proven patch.
         let proven_subs = |a: usize, b: usize| {
@@ -915,7 +952,7 @@ pub fn self_pairs(
         };
         // Proven patches meet only where they share, and so do two triangles around a
         // vertex whose fan is proven: such neighbours need no decision.
-        fans += prep.box_pairs(
+        let (f, c) = prep.box_pairs(
             i as usize,
             j as usize,
             exact,
@@ -924,9 +961,12 @@ pub fn self_pairs(
             &mut s.apart,
             &mut s.adjacent,
         );
+        fans += f;
+        culled += c;
     }
     st.self_box_nanos += nanos_since(t);
-    st.self_box_pairs += s.adjacent.len() + s.apart.len() + fans;
+    st.self_box_pairs += s.adjacent.len() + s.apart.len() + fans + culled;
+    st.self_box_culled += culled;
     st.self_adjacent_fans += fans;
     st.self_adjacent_tests += s.adjacent.len();
     st.self_narrow_tests += s.apart.len();

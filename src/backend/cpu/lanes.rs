@@ -4,13 +4,15 @@
 //! self-colliding mesh's sub-leaves (at most sixteen boxes) are tested sixteen at a time,
 //! in one AVX-512 register per bound where the CPU has AVX-512F.
 
+pub(crate) use super::diag::Diag;
+use super::diag::DiagRun;
 use crate::geom::Aabb;
 use crate::mesh::Mesh;
 
 /// Boxes tested together.
-const LANES: usize = 8;
+pub(super) const LANES: usize = 8;
 /// Padding after the boxes: two chunks ([`Lanes::each_pair_16`] reads sixteen boxes).
-const PAD: usize = 2 * LANES;
+pub(super) const PAD: usize = 2 * LANES;
 
 /// `len` boxes followed by [`PAD`] padding boxes that meet nothing (min `+inf`, max
 /// `-inf`), so that the sixteen boxes from any position below `len` can be read.
@@ -32,6 +34,9 @@ pub(crate) struct Near16<'a> {
     /// The two sub-leaves lie in a patch proven free of self-intersection: pairs sharing a
     /// vertex are dropped uncounted.
     pub proven: bool,
+    /// The polygons' diagonal bounds (numbered as the lanes), at epsilon 0: box pairs
+    /// apart along a diagonal are dropped, counted.
+    pub diag: Option<&'a Diag>,
 }
 
 impl Lanes {
@@ -246,24 +251,34 @@ impl Lanes {
         cands: &[Aabb],
         c0: u32,
         upper: bool,
+        diag: Option<&Diag>,
         out: &mut Vec<[u32; 2]>,
-    ) {
+    ) -> usize {
         assert!(range.end <= self.len() && range.len() <= 2 * LANES && cands.len() <= 16);
         assert!(!upper || cands.len() == range.len());
+        assert!(diag.is_none_or(|d| d.len() == self.len()));
         if range.is_empty() {
-            return;
+            return 0;
         }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
             let keep = (1u32 << range.len()) - 1;
             let run = self.run(range.start..range.start + 2 * LANES);
             // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds sixteen
-            // boxes (the padding included).
+            // boxes (the padding included), `diag` as many entries as the lanes.
             return unsafe {
-                pairs_16_avx512(&run, cands, keep, upper, range.start as u32, c0, out)
+                pairs_16_avx512(&run, cands, keep, upper, range.start as u32, c0, diag, out)
             };
         }
-        self.each_pair_16(range, cands, upper, |i, c| out.push([i, c0 + c]));
+        let mut culled = 0;
+        self.each_pair_16(range, cands, upper, |i, c| {
+            if diag.is_some_and(|d| !d.meets(i as usize, (c0 + c) as usize)) {
+                culled += 1;
+            } else {
+                out.push([i, c0 + c]);
+            }
+        });
+        culled
     }
 
     /// [`Lanes::pairs_16`] for two sub-leaves that may share vertices, the pairs split as
@@ -283,7 +298,7 @@ impl Lanes {
         near: &Near16<'_>,
         apart: &mut Vec<[u32; 2]>,
         adjacent: &mut Vec<[u32; 2]>,
-    ) -> usize {
+    ) -> (usize, usize) {
         assert!(range.end <= self.len() && range.len() <= 2 * LANES);
         assert!(!upper || cands.len() == range.len());
         assert!(cands.len() <= 16 && near.cand.len() == cands.len());
@@ -292,8 +307,9 @@ impl Lanes {
             near.fans.len() >= 2 * LANES
                 && near.corners[..near.k].iter().all(|c| c.len() >= 2 * LANES)
         );
+        assert!(near.diag.is_none_or(|d| d.len() == self.len()));
         if range.is_empty() {
-            return 0;
+            return (0, 0);
         }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
@@ -324,9 +340,16 @@ impl Lanes {
         near: &Near16<'_>,
         apart: &mut Vec<[u32; 2]>,
         adjacent: &mut Vec<[u32; 2]>,
-    ) -> usize {
-        let (first, k, mut fans) = (range.start as u32, near.k, 0);
+    ) -> (usize, usize) {
+        let (first, k, mut fans, mut culled) = (range.start as u32, near.k, 0, 0);
         self.each_pair_16(range, cands, upper, |i, c| {
+            if near
+                .diag
+                .is_some_and(|d| !d.meets(i as usize, (c0 + c) as usize))
+            {
+                culled += 1;
+                return;
+            }
             let (lane, v) = ((i - first) as usize, &near.cand[c as usize]);
             let mut shared = 0u8;
             for (corner, at) in near.corners[..k].iter().enumerate() {
@@ -342,7 +365,7 @@ impl Lanes {
                 }
             }
         });
-        fans
+        (fans, culled)
     }
 
     /// For each of `cands` (at most 16), the boxes of the 16 from `start` (padding
@@ -655,6 +678,7 @@ unsafe fn append16(
 /// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,popcnt")]
+#[allow(clippy::too_many_arguments)]
 unsafe fn pairs_16_avx512(
     run: &[&[f32]; 6],
     cands: &[Aabb],
@@ -662,10 +686,14 @@ unsafe fn pairs_16_avx512(
     upper: bool,
     first: u32,
     c0: u32,
+    diag: Option<&Diag>,
     out: &mut Vec<[u32; 2]>,
-) {
+) -> usize {
     // SAFETY: the caller's promise.
     let boxes = unsafe { Boxes16::load(run) };
+    // SAFETY: as many entries as the lanes, padded (the caller's promise).
+    let diag = diag.map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
+    let mut culled = 0;
     // Every candidate's boxes first, then the candidates that meet one (a fifth of them
     // between two sub-leaves of a crumpled cloth): the stores cost more than the tests.
     let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
@@ -675,11 +703,19 @@ unsafe fn pairs_16_avx512(
     while hit != 0 {
         let c = hit.trailing_zeros() as usize;
         hit &= hit - 1;
+        let mut m = masks[c];
+        if let Some(d) = &diag {
+            // SAFETY: AVX-512F (the caller's promise); `c` is a candidate.
+            let kept = unsafe { d.meet(c, m) };
+            culled += (m & !kept).count_ones() as usize;
+            m = kept;
+        }
         // SAFETY: at most sixteen pairs appended per candidate so far: room reserved.
-        unsafe { append16(base, &mut len, masks[c], &pair_words(first, c0 + c as u32)) };
+        unsafe { append16(base, &mut len, m, &pair_words(first, c0 + c as u32)) };
     }
     // SAFETY: the pairs up to `len` were all written, within capacity.
     unsafe { out.set_len(len) };
+    culled
 }
 
 /// [`Lanes::split_16`] in AVX-512 for polygons of `K` corners: the boxes as in
@@ -703,10 +739,15 @@ unsafe fn split_16_avx512<const K: usize>(
     near: &Near16<'_>,
     apart: &mut Vec<[u32; 2]>,
     adjacent: &mut Vec<[u32; 2]>,
-) -> usize {
+) -> (usize, usize) {
     use std::arch::x86_64::*;
     // SAFETY: the caller's promise.
     let boxes = unsafe { Boxes16::load(run) };
+    // SAFETY: as many entries as the lanes, padded (the caller's promise).
+    let diag = near
+        .diag
+        .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
+    let mut culled = 0;
     let mut corner = [_mm512_setzero_si512(); K];
     for (c, at) in corner.iter_mut().enumerate() {
         // SAFETY: sixteen `u32` (the caller's promise), no alignment needed.
@@ -741,10 +782,19 @@ unsafe fn split_16_avx512<const K: usize>(
             shared |= s;
             by_fan |= s & proven_fan[c];
         }
+        let mut apart_m = m & !shared;
+        // Only pairs sharing no vertex can be apart along a diagonal (the others share a
+        // point).
+        if let Some(d) = diag.as_ref().filter(|_| apart_m != 0) {
+            // SAFETY: AVX-512F (the caller's promise); `c` is a candidate.
+            let kept = unsafe { d.meet(c, apart_m) };
+            culled += (apart_m & !kept).count_ones() as usize;
+            apart_m = kept;
+        }
         let pairs = pair_words(first, c0 + c as u32);
         // SAFETY: at most sixteen pairs appended to each list per candidate so far: room
         // reserved.
-        unsafe { append16(base, &mut len, m & !shared, &pairs) };
+        unsafe { append16(base, &mut len, apart_m, &pairs) };
         if near.proven {
             continue;
         }
@@ -760,12 +810,185 @@ unsafe fn split_16_avx512<const K: usize>(
         apart.set_len(len);
         adjacent.set_len(adj_len);
     }
-    counted
+    (counted, culled)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`Lanes::pairs_16`] and [`Lanes::split_16`] with diagonal bounds against a brute
+    /// force: the pairs of the bounds-free lists, less those sharing no vertex whose
+    /// triangles lie apart along a diagonal by more than 10^-3 (computed here in `f64`
+    /// from the corners; the corners are hundredths, so a pair's gap is either at most
+    /// rounding or at least 10^-2), counted; AVX-512 and one by one alike.
+    #[test]
+    fn diagonal_bounds_drop_pairs_apart_along_a_diagonal() {
+        let mut rng = crate::geom::test_rng::Rng(23);
+        let n = 61;
+        let points: Vec<[f32; 3]> = (0..40)
+            .map(|i| {
+                let x = 0.2 * i as f32;
+                [
+                    x + rng.below(100) as f32 / 100.0,
+                    rng.below(100) as f32 / 100.0,
+                    rng.below(100) as f32 / 100.0,
+                ]
+            })
+            .collect();
+        let corners: Vec<[u32; 3]> = (0..n)
+            .map(|i| {
+                let base = (i * 2 / 3).min(36);
+                [0, 1, 2].map(|_| (base + rng.below(4)) as u32)
+            })
+            .collect();
+        let tris: Vec<[P; 3]> = corners
+            .iter()
+            .map(|c| c.map(|x| points[x as usize]))
+            .collect();
+        type P = [f32; 3];
+        let boxes: Vec<Aabb> = tris
+            .iter()
+            .map(|t| {
+                let mut b = Aabb::EMPTY;
+                t.iter().for_each(|p| b.grow(p));
+                b
+            })
+            .collect();
+        let mut lanes = Lanes::default();
+        lanes.resize(n);
+        for (i, b) in boxes.iter().enumerate() {
+            lanes.set(i, b);
+        }
+        let gap = |p: usize, q: usize| {
+            let ext = |t: &[P; 3], k: usize| {
+                let s: Vec<f64> = t
+                    .iter()
+                    .map(|v| super::super::diag::diag_sums(&crate::geom::widen(v))[k])
+                    .collect();
+                (
+                    s.iter().copied().fold(f64::INFINITY, f64::min),
+                    s.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                )
+            };
+            (0..6)
+                .map(|k| {
+                    let ((a0, a1), (b0, b1)) = (ext(&tris[p], k), ext(&tris[q], k));
+                    (b0 - a1).max(a0 - b1)
+                })
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        let verts: Vec<[u32; 4]> = corners
+            .iter()
+            .map(|c| [c[0], c[1], c[2], u32::MAX])
+            .collect();
+        let fan_bits: Vec<u8> = (0..n + 16).map(|_| rng.below(8) as u8).collect();
+        let cols: Vec<Vec<u32>> = (0..4)
+            .map(|c| {
+                (0..n + 16)
+                    .map(|x| verts.get(x).map_or(u32::MAX, |v| v[c]))
+                    .collect()
+            })
+            .collect();
+        let mut checked = [0usize; 2];
+        for diag in super::super::diag::all_diags(&points, &corners) {
+            for (range, others) in [
+                (0..16, 16..32),
+                (3..19, 3..19),
+                (40..53, 20..36),
+                (45..61, 45..61),
+                (5..6, 0..16),
+            ] {
+                let upper = range == others;
+                let (mut want_all, mut want_apart, mut want_adj, mut want_fans, mut want_cut) =
+                    (Vec::new(), Vec::new(), Vec::new(), 0, 0);
+                for (c, q) in others.clone().enumerate() {
+                    for p in range.clone() {
+                        if (upper && p <= range.start + c) || !boxes[p].overlaps(&boxes[q], 0.0) {
+                            continue;
+                        }
+                        let g = gap(p, q);
+                        assert!(g <= 1e-3 || g >= 1e-2, "gap {g}");
+                        let pair = [p as u32, q as u32];
+                        let shared = (0..3)
+                            .filter(|&ci| verts[q][..3].contains(&verts[p][ci]))
+                            .fold(0u8, |b, ci| b | 1 << ci);
+                        if g > 1e-3 {
+                            assert_eq!(shared, 0, "triangles sharing a corner apart");
+                            want_cut += 1;
+                            continue;
+                        }
+                        want_all.push(pair);
+                        if shared == 0 {
+                            want_apart.push(pair);
+                        } else if shared & fan_bits[p] != 0 {
+                            want_fans += 1;
+                        } else {
+                            want_adj.push(pair);
+                        }
+                    }
+                }
+                checked[0] += want_cut;
+                checked[1] += want_all.len();
+                let cands = &boxes[others.clone()];
+                let mut all = Vec::new();
+                let cut = lanes.pairs_16(
+                    range.clone(),
+                    cands,
+                    others.start as u32,
+                    upper,
+                    Some(&diag),
+                    &mut all,
+                );
+                assert_eq!(
+                    (all, cut),
+                    (want_all, want_cut),
+                    "pairs_16 {range:?} {others:?}"
+                );
+                let at = range.start..;
+                let near = Near16 {
+                    k: 3,
+                    corners: [
+                        &cols[0][at.clone()],
+                        &cols[1][at.clone()],
+                        &cols[2][at.clone()],
+                        &cols[3][at.clone()],
+                    ],
+                    fans: &fan_bits[at],
+                    cand: &verts[others.clone()],
+                    proven: false,
+                    diag: Some(&diag),
+                };
+                let want = (want_apart, want_adj, (want_fans, want_cut));
+                for plain in [false, true] {
+                    let (mut apart, mut adj) = (Vec::new(), Vec::new());
+                    let c0 = others.start as u32;
+                    let got = if plain {
+                        lanes.split_16_plain(
+                            range.clone(),
+                            cands,
+                            c0,
+                            upper,
+                            &near,
+                            &mut apart,
+                            &mut adj,
+                        )
+                    } else {
+                        lanes.split_16(range.clone(), cands, c0, upper, &near, &mut apart, &mut adj)
+                    };
+                    assert_eq!(
+                        (apart, adj, got),
+                        want,
+                        "split_16 {range:?} {others:?} plain {plain}"
+                    );
+                }
+            }
+        }
+        assert!(
+            checked[0] > 20 && checked[1] > 20,
+            "{checked:?} pairs dropped / kept"
+        );
+    }
 
     #[test]
     fn each_meeting_matches_one_by_one_tests() {
@@ -856,6 +1079,7 @@ mod tests {
                     cs.1,
                     100 + 16 * cs.0 as u32,
                     false,
+                    None,
                     &mut list,
                 );
             }
@@ -880,7 +1104,14 @@ mod tests {
             dense.each_pair_16(range.clone(), own, true, |i, c| got.push((c, i)));
             assert_eq!(got, want, "{range:?} with itself");
             let mut list = Vec::new();
-            dense.pairs_16(range.clone(), own, range.start as u32, true, &mut list);
+            dense.pairs_16(
+                range.clone(),
+                own,
+                range.start as u32,
+                true,
+                None,
+                &mut list,
+            );
             let listed: Vec<(u32, u32)> = list
                 .iter()
                 .map(|&[i, c]| (c - range.start as u32, i))
@@ -1009,6 +1240,7 @@ mod tests {
                         fans: &fan_bits[at],
                         cand: &verts[others.clone()],
                         proven,
+                        diag: None,
                     };
                     let (mut want_apart, mut want_adj, mut want_fans) = (Vec::new(), Vec::new(), 0);
                     for (c, q) in others.clone().enumerate() {
@@ -1033,7 +1265,7 @@ mod tests {
                         }
                     }
                     let cands = &boxes[others.clone()];
-                    let want = (want_apart, want_adj, want_fans);
+                    let want = (want_apart, want_adj, (want_fans, 0));
                     let (mut apart, mut adj) = (vec![[9, 9]], Vec::new());
                     let fans = lanes.split_16(
                         range.clone(),
@@ -1067,7 +1299,7 @@ mod tests {
                     );
                     counts[0] += want.0.len();
                     counts[1] += want.1.len();
-                    counts[2] += want.2;
+                    counts[2] += want.2 .0;
                     totals += 1;
                 }
             }

@@ -13,6 +13,7 @@
 //! Polygon boxes are cached per mesh ([`BoxCache`]) and computed a leaf at a time, once per
 //! frame however many leaf pairs ask about them.
 
+mod diag;
 pub(crate) mod lanes;
 mod steps;
 
