@@ -16,10 +16,10 @@ use super::lanes::{LANES, PAD};
 /// the box test left a candidate.
 ///
 /// Bounds are rounded outward: each sum of two coordinates, rounded to nearest, is moved
-/// out by 2^-21 of its size and 2^-140 before and after its rounding to `f32`
-/// ([`outward`], [`outward_f32`]), so each bound holds the exact sums of the corners it
-/// bounds (a float mesh's in `f32`, straight from its points; others' from their `f64`
-/// corners).
+/// out by 2^-21 of its size and 2^-140, more than its own rounding and the rounding to
+/// `f32` can err ([`outward`], [`outward_f32`]): each bound holds the exact sums of the
+/// corners it bounds (a float mesh's computed in `f32` straight from its points, others'
+/// from their `f64` corners).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Diag {
     lo: [Vec<f32>; 6],
