@@ -353,6 +353,12 @@ pub struct SelfPrep {
     /// by more than its box's growth says).
     diag: Diag,
     sub_diag: Diag,
+    /// Whether the diagonal bounds are made (see [`SelfPrep::use_diag`]), queries since
+    /// they were last made, and the pairs sharing no vertex left to the exact test in the
+    /// last query (summed by its tasks).
+    diag_made: bool,
+    diag_idle: u32,
+    apart_left: std::sync::atomic::AtomicUsize,
     /// The sub-leaves holding a vertex index of sub-leaf `s` (itself included), ascending:
     /// `sub_near[sub_near_start[s]..sub_near_start[s + 1]]` (made with the layout). Two
     /// sub-leaves not so related have no pair sharing a vertex: all their box pairs go to
@@ -566,17 +572,40 @@ impl SelfPrep {
                 .extend(self.sub_start.windows(2).map(sub_box));
         }
         self.sub_grown.set_grown(&self.sub_boxes, h, par);
-        if h == 0.0 && triangles {
+        if h == 0.0 && triangles && self.use_diag(n) {
             if float {
                 self.diag.set_corners(slots, &self.corner_slots, par);
             } else {
                 self.diag.set_triangles(&self.tris, par);
             }
             self.sub_diag.set_union(&self.diag, &self.sub_start, par);
+            self.diag_made = true;
         } else {
             self.diag = Diag::default();
             self.sub_diag = Diag::default();
+            self.diag_made = false;
         }
+    }
+
+    /// Whether to make the diagonal bounds for this query of a mesh of `n` polygons. They
+    /// pay where box pairs between layers of a mesh folded onto itself stay close (many
+    /// pairs left to the exact test even after the bounds drop theirs: crumpled and rolled
+    /// cloth, twisted rods, armadillo); where the only pairs sharing no vertex are
+    /// neighbours across patch borders (flat or gently curved sheets, spheres), the bounds
+    /// drop all of them but cost more to make and test than those tests (flat 300x300
+    /// cloth 16.4 -> 18.7 ms, 1000 spheres 88 -> 94 ms). So: made while the last query
+    /// that made them left at least one such pair per eight polygons to the exact test;
+    /// else made again once every [`DIAG_RETRY`] queries, to see. The answer is the same
+    /// either way.
+    fn use_diag(&mut self, n: usize) -> bool {
+        let left = self
+            .apart_left
+            .swap(0, std::sync::atomic::Ordering::Relaxed);
+        let paying = self.diag_made && 8 * left >= n;
+        // A mesh's first query makes them (`diag_idle` starts at 0).
+        let make = paying || (!self.diag_made && self.diag_idle.is_multiple_of(DIAG_RETRY));
+        self.diag_idle = if make { 0 } else { self.diag_idle + 1 };
+        make
     }
 
     /// The diagonal bounds of the polygons and of the sub-leaves, when made.
@@ -827,6 +856,10 @@ impl SelfPrep {
     }
 }
 
+/// Queries between two tries of a mesh's diagonal bounds where they did not pay
+/// ([`SelfPrep::use_diag`]).
+const DIAG_RETRY: u32 = 16;
+
 /// Scratch of [`self_pairs`], reused from query to query.
 #[derive(Default)]
 pub struct SelfScratch {
@@ -965,6 +998,8 @@ pub fn self_pairs(
         culled += c;
     }
     st.self_box_nanos += nanos_since(t);
+    prep.apart_left
+        .fetch_add(s.apart.len(), std::sync::atomic::Ordering::Relaxed);
     st.self_box_pairs += s.adjacent.len() + s.apart.len() + fans + culled;
     st.self_box_culled += culled;
     st.self_adjacent_fans += fans;
@@ -1221,4 +1256,40 @@ fn vertices(m: &Mesh, p: usize) -> [u32; 4] {
         v[k] = m.slot_vertex[slot as usize];
     }
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::Ordering::Relaxed;
+
+    /// The diagonal bounds are made at a mesh's first query; kept while the query that
+    /// made them left at least one pair per eight polygons to the exact test; else made
+    /// once every `DIAG_RETRY` queries.
+    #[test]
+    fn diagonal_bounds_are_made_while_they_pay() {
+        let n = 800;
+        let mut p = SelfPrep::default();
+        // One query: make or not as `use_diag` says, then `left` pairs left by its tasks.
+        let mut query = |p: &mut SelfPrep, left: usize| {
+            let made = p.use_diag(n);
+            p.diag_made = made;
+            p.apart_left.store(left, Relaxed);
+            made
+        };
+        assert!(query(&mut p, 100), "first query");
+        assert!(query(&mut p, 100), "100 left of 800 polygons: paying");
+        assert!(query(&mut p, 99), "still paying when made");
+        let made: Vec<bool> = (0..40).map(|_| query(&mut p, 0)).collect();
+        let at: Vec<usize> = (0..40).filter(|&i| made[i]).collect();
+        assert_eq!(
+            at,
+            [DIAG_RETRY as usize, 2 * DIAG_RETRY as usize + 1],
+            "99 of 800 left: dropped, then retried every {DIAG_RETRY} queries"
+        );
+        // A retry that pays keeps them.
+        while !query(&mut p, 0) {}
+        p.apart_left.store(500, Relaxed);
+        assert!((0..5).all(|_| query(&mut p, 500)));
+    }
 }
