@@ -1271,7 +1271,7 @@ mod tests {
         let n = 800;
         let mut p = SelfPrep::default();
         // One query: make or not as `use_diag` says, then `left` pairs left by its tasks.
-        let mut query = |p: &mut SelfPrep, left: usize| {
+        let query = |p: &mut SelfPrep, left: usize| {
             let made = p.use_diag(n);
             p.diag_made = made;
             p.apart_left.store(left, Relaxed);
