@@ -191,33 +191,7 @@ impl Planner {
             }
         }
         let t = Instant::now();
-        // By one 128-bit key: the order of `Pair` (mesh_a, polygon_a, mesh_b, polygon_b),
-        // the whole pair in one integer, made once per pair and sorted as integers (sorting
-        // the pairs by a key made at each comparison took 2 ms for the 78,000 pairs of a
-        // crumpled cloth), by radix ([`super::sort`]). (A stable sort, to merge the mesh
-        // pairs' sorted runs, was slower: the runs are short.)
-        let keys = &mut self.merge_keys;
-        keys.clear();
-        keys.extend(out.iter().map(|p| {
-            (u128::from(p.mesh_a) << 96)
-                | (u128::from(p.polygon_a) << 64)
-                | (u128::from(p.mesh_b) << 32)
-                | u128::from(p.polygon_b)
-        }));
-        match &self.workers.pool {
-            Some(pool) => {
-                pool.install(|| super::sort::sort_keys(keys, &mut self.merge_scratch, true))
-            }
-            None => super::sort::sort_keys(keys, &mut self.merge_scratch, false),
-        }
-        keys.dedup();
-        out.clear();
-        out.extend(keys.iter().map(|&k| Pair {
-            mesh_a: (k >> 96) as u32,
-            polygon_a: (k >> 64) as u32,
-            mesh_b: (k >> 32) as u32,
-            polygon_b: k as u32,
-        }));
+        super::sort::sort_pairs(out, &mut self.merge_keys, self.workers.pool.as_ref());
         st.merge_nanos = whole::nanos_since(t);
         st.total_nanos = whole::nanos_since(start);
         self.all_stats = st;

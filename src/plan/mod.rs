@@ -45,8 +45,7 @@ pub(crate) struct Planner {
     /// The self-colliding meshes made ready for the query, kept from query to query.
     self_preps: Vec<SelfPrep>,
     /// The whole-scene answer's pairs as sort keys, and the sort's scratch.
-    merge_keys: Vec<u128>,
-    merge_scratch: Vec<u128>,
+    merge_keys: sort::PairKeys,
     /// Stages of the last whole-scene query.
     all_stats: AllStats,
     /// The continuous query's meshes over the step, leaf pairs and broad-phase scratch,
@@ -66,8 +65,7 @@ impl Planner {
             workers: Workers::new(threads),
             broad: BroadPhase::default(),
             self_preps: Vec::new(),
-            merge_keys: Vec::new(),
-            merge_scratch: Vec::new(),
+            merge_keys: sort::PairKeys::default(),
             all_stats: AllStats::default(),
             swept: Vec::new(),
             leaf_pairs: Vec::new(),
