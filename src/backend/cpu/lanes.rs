@@ -691,12 +691,15 @@ unsafe fn pairs_16_avx512(
 ) -> usize {
     // SAFETY: the caller's promise.
     let boxes = unsafe { Boxes16::load(run) };
-    // SAFETY: as many entries as the lanes, padded (the caller's promise).
-    let diag = diag.map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
     let mut culled = 0;
     // Every candidate's boxes first, then the candidates that meet one (a fifth of them
     // between two sub-leaves of a crumpled cloth): the stores cost more than the tests.
     let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
+    // The diagonal bounds read only where some box meets.
+    // SAFETY: as many entries as the lanes, padded (the caller's promise).
+    let diag = diag
+        .filter(|_| hit != 0)
+        .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
     // Room for sixteen pairs per candidate and one whole store past the last.
     out.reserve(16 * cands.len() + 8);
     let (mut len, base) = (out.len(), out.as_mut_ptr());
@@ -743,10 +746,6 @@ unsafe fn split_16_avx512<const K: usize>(
     use std::arch::x86_64::*;
     // SAFETY: the caller's promise.
     let boxes = unsafe { Boxes16::load(run) };
-    // SAFETY: as many entries as the lanes, padded (the caller's promise).
-    let diag = near
-        .diag
-        .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
     let mut culled = 0;
     let mut corner = [_mm512_setzero_si512(); K];
     for (c, at) in corner.iter_mut().enumerate() {
@@ -768,6 +767,12 @@ unsafe fn split_16_avx512<const K: usize>(
     let (base, adj_base) = (apart.as_mut_ptr(), adjacent.as_mut_ptr());
     let mut counted = 0;
     let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
+    // The diagonal bounds read only where some box meets.
+    // SAFETY: as many entries as the lanes, padded (the caller's promise).
+    let diag = near
+        .diag
+        .filter(|_| hit != 0)
+        .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
     while hit != 0 {
         let c = hit.trailing_zeros() as usize;
         hit &= hit - 1;
