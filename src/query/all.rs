@@ -354,11 +354,12 @@ pub struct SelfPrep {
     diag: Diag,
     sub_diag: Diag,
     /// Whether the diagonal bounds are made (see [`SelfPrep::use_diag`]), queries since
-    /// they were last made, and the pairs sharing no vertex left to the exact test in the
-    /// last query (summed by its tasks).
+    /// they were last made, and the last query's pairs sharing no vertex left to the exact
+    /// test and pairs the bounds dropped (summed by its tasks).
     diag_made: bool,
     diag_idle: u32,
     apart_left: std::sync::atomic::AtomicUsize,
+    diag_dropped: std::sync::atomic::AtomicUsize,
     /// The sub-leaves holding a vertex index of sub-leaf `s` (itself included), ascending:
     /// `sub_near[sub_near_start[s]..sub_near_start[s + 1]]` (made with the layout). Two
     /// sub-leaves not so related have no pair sharing a vertex: all their box pairs go to
@@ -587,21 +588,27 @@ impl SelfPrep {
         }
     }
 
-    /// Whether to make the diagonal bounds for this query of a mesh of `n` polygons. They
-    /// pay where box pairs between layers of a mesh folded onto itself stay close (many
-    /// pairs left to the exact test even after the bounds drop theirs: crumpled and rolled
-    /// cloth, twisted rods, armadillo); where the only pairs sharing no vertex are
-    /// neighbours across patch borders (flat or gently curved sheets, spheres), the bounds
-    /// drop all of them but cost more to make and test than those tests (flat 300x300
-    /// cloth 16.4 -> 18.7 ms, 1000 spheres 88 -> 94 ms). So: made while the last query
-    /// that made them left at least one such pair per eight polygons to the exact test;
-    /// else made again once every [`DIAG_RETRY`] queries, to see. The answer is the same
-    /// either way.
+    /// Whether to make the diagonal bounds for this query of a mesh of `n` polygons. Each
+    /// polygon's bounds cost about what an exact test costs, and each pair they drop saves
+    /// one; they pay where box pairs between layers of a mesh folded onto itself stay
+    /// close, so that many pairs are left to the exact test even after the bounds drop
+    /// theirs (crumpled and rolled cloth, twisted rods). Where the only pairs sharing no
+    /// vertex are neighbours across patch borders (flat or gently curved sheets, spheres),
+    /// the bounds drop them all, but making and testing them cost more than those cheap
+    /// tests (flat 300x300 cloth 16.4 -> 18.7 ms, 1000 spheres 88 -> 94 ms, measured with
+    /// the bounds always made). So: made while the last query that made them dropped at
+    /// least one pair per polygon and left at least one per eight polygons to the exact
+    /// test (crumpled cloth 2.8 and 2.2 per polygon, rolled 1.4 and 0.9, rods 3.5 and 1.1;
+    /// armadillo 0.95 and 1.1, about even there; flat sheets 1.4 and 0); else made again
+    /// once every [`DIAG_RETRY`] queries, to see. The answer is the same either way.
     fn use_diag(&mut self, n: usize) -> bool {
         let left = self
             .apart_left
             .swap(0, std::sync::atomic::Ordering::Relaxed);
-        let paying = self.diag_made && 8 * left >= n;
+        let dropped = self
+            .diag_dropped
+            .swap(0, std::sync::atomic::Ordering::Relaxed);
+        let paying = self.diag_made && 8 * left >= n && dropped >= n;
         // A mesh's first query makes them (`diag_idle` starts at 0).
         let make = paying || (!self.diag_made && self.diag_idle.is_multiple_of(DIAG_RETRY));
         self.diag_idle = if make { 0 } else { self.diag_idle + 1 };
@@ -1000,6 +1007,8 @@ pub fn self_pairs(
     st.self_box_nanos += nanos_since(t);
     prep.apart_left
         .fetch_add(s.apart.len(), std::sync::atomic::Ordering::Relaxed);
+    prep.diag_dropped
+        .fetch_add(culled, std::sync::atomic::Ordering::Relaxed);
     st.self_box_pairs += s.adjacent.len() + s.apart.len() + fans + culled;
     st.self_box_culled += culled;
     st.self_adjacent_fans += fans;
@@ -1264,17 +1273,19 @@ mod tests {
     use std::sync::atomic::Ordering::Relaxed;
 
     /// The diagonal bounds are made at a mesh's first query; kept while the query that
-    /// made them left at least one pair per eight polygons to the exact test; else made
-    /// once every `DIAG_RETRY` queries.
+    /// made them dropped at least one pair per polygon and left at least one pair per
+    /// eight polygons to the exact test; else made once every `DIAG_RETRY` queries.
     #[test]
     fn diagonal_bounds_are_made_while_they_pay() {
         let n = 800;
         let mut p = SelfPrep::default();
-        // One query: make or not as `use_diag` says, then `left` pairs left by its tasks.
+        // One query: make or not as `use_diag` says, then `left` pairs left by its tasks
+        // and 900 dropped.
         let query = |p: &mut SelfPrep, left: usize| {
             let made = p.use_diag(n);
             p.diag_made = made;
             p.apart_left.store(left, Relaxed);
+            p.diag_dropped.store(900, Relaxed);
             made
         };
         assert!(query(&mut p, 100), "first query");
@@ -1287,9 +1298,11 @@ mod tests {
             [DIAG_RETRY as usize, 2 * DIAG_RETRY as usize + 1],
             "99 of 800 left: dropped, then retried every {DIAG_RETRY} queries"
         );
-        // A retry that pays keeps them.
+        // A retry that pays keeps them; too few dropped does not.
         while !query(&mut p, 0) {}
         p.apart_left.store(500, Relaxed);
         assert!((0..5).all(|_| query(&mut p, 500)));
+        p.diag_dropped.store(799, Relaxed);
+        assert!(!p.use_diag(n), "799 dropped of 800 polygons");
     }
 }

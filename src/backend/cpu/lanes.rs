@@ -267,7 +267,15 @@ impl Lanes {
             // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds sixteen
             // boxes (the padding included), `diag` as many entries as the lanes.
             return unsafe {
-                pairs_16_avx512(&run, cands, keep, upper, range.start as u32, c0, diag, out)
+                let first = range.start as u32;
+                match diag {
+                    Some(_) => {
+                        pairs_16_avx512::<true>(&run, cands, keep, upper, first, c0, diag, out)
+                    }
+                    None => {
+                        pairs_16_avx512::<false>(&run, cands, keep, upper, first, c0, None, out)
+                    }
+                }
             };
         }
         let mut culled = 0;
@@ -319,10 +327,19 @@ impl Lanes {
             // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds
             // sixteen boxes, `near` sixteen polygons' corners and fans (asserted above).
             return unsafe {
-                if near.k == 3 {
-                    split_16_avx512::<3>(&run, cands, keep, upper, first, c0, near, apart, adjacent)
-                } else {
-                    split_16_avx512::<4>(&run, cands, keep, upper, first, c0, near, apart, adjacent)
+                match (near.k, near.diag.is_some()) {
+                    (3, true) => split_16_avx512::<3, true>(
+                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
+                    ),
+                    (3, false) => split_16_avx512::<3, false>(
+                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
+                    ),
+                    (_, true) => split_16_avx512::<4, true>(
+                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
+                    ),
+                    (_, false) => split_16_avx512::<4, false>(
+                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
+                    ),
                 }
             };
         }
@@ -672,14 +689,15 @@ unsafe fn append16(
 }
 
 /// [`Lanes::pairs_16`] in AVX-512: per candidate, the meeting lanes' pairs appended
-/// ([`append16`]).
+/// ([`append16`]). `DIAG`: `diag` is given (compiled apart, so that the kernel without
+/// diagonal bounds keeps no trace of their code or registers).
 ///
 /// # Safety
 /// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,popcnt")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn pairs_16_avx512(
+unsafe fn pairs_16_avx512<const DIAG: bool>(
     run: &[&[f32]; 6],
     cands: &[Aabb],
     keep: u32,
@@ -698,7 +716,7 @@ unsafe fn pairs_16_avx512(
     // The diagonal bounds read only where some box meets.
     // SAFETY: as many entries as the lanes, padded (the caller's promise).
     let diag = diag
-        .filter(|_| hit != 0)
+        .filter(|_| DIAG && hit != 0)
         .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
     // Room for sixteen pairs per candidate and one whole store past the last.
     out.reserve(16 * cands.len() + 8);
@@ -724,7 +742,7 @@ unsafe fn pairs_16_avx512(
 /// [`Lanes::split_16`] in AVX-512 for polygons of `K` corners: the boxes as in
 /// [`pairs_16_avx512`], then each candidate's `K` vertex indices against the sixteen
 /// polygons' corners (`K * K` compares, only in lanes whose boxes meet), the pairs
-/// appended as there.
+/// appended as there; `DIAG` as there (`near.diag` given).
 ///
 /// # Safety
 /// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes, `near.fans` and
@@ -732,7 +750,7 @@ unsafe fn pairs_16_avx512(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,popcnt")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn split_16_avx512<const K: usize>(
+unsafe fn split_16_avx512<const K: usize, const DIAG: bool>(
     run: &[&[f32]; 6],
     cands: &[Aabb],
     keep: u32,
@@ -771,7 +789,7 @@ unsafe fn split_16_avx512<const K: usize>(
     // SAFETY: as many entries as the lanes, padded (the caller's promise).
     let diag = near
         .diag
-        .filter(|_| hit != 0)
+        .filter(|_| DIAG && hit != 0)
         .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
     while hit != 0 {
         let c = hit.trailing_zeros() as usize;
