@@ -199,6 +199,17 @@ fn radix<K: Key>(keys: &mut [K], scratch: &mut [K]) -> bool {
 mod tests {
     use super::*;
 
+    /// `keys` sorted by [`sort_keys`], whole and in halves, as by the standard sort.
+    fn check<K: Key + std::fmt::Debug>(keys: Vec<K>, scratch: &mut Vec<K>, what: &str) {
+        let mut want = keys.clone();
+        want.sort_unstable();
+        let (mut whole, mut halves) = (keys.clone(), keys);
+        sort_keys(&mut whole, scratch, false);
+        assert_eq!(whole, want, "{what}");
+        sort_keys(&mut halves, scratch, true);
+        assert_eq!(halves, want, "{what}, in halves");
+    }
+
     /// Against the standard sort: random keys, keys differing in a few scattered bytes
     /// (as a scene's pairs), equal keys, short lists (the comparison path) and long ones;
     /// whole and in halves.
@@ -215,7 +226,7 @@ mod tests {
             (30_000, 4),
             (4096, 3),
         ] {
-            let mut keys: Vec<u128> = (0..n)
+            let keys: Vec<u128> = (0..n)
                 .map(|_| {
                     let (a, b) = (u128::from(rng.next()), u128::from(rng.next()));
                     match shape {
@@ -232,24 +243,13 @@ mod tests {
                 })
                 .collect();
             // The same shapes as 64-bit keys (high and low halves folded together).
-            let mut short: Vec<u64> = keys.iter().map(|&k| (k ^ k >> 61) as u64).collect();
-            let mut want_short = short.clone();
-            want_short.sort_unstable();
-            let mut short_halves = short.clone();
-            sort_keys(&mut short, &mut scratch_short, false);
-            assert_eq!(short, want_short, "{n} 64-bit keys, shape {shape}");
-            sort_keys(&mut short_halves, &mut scratch_short, true);
-            assert_eq!(
-                short_halves, want_short,
-                "{n} 64-bit keys, shape {shape}, in halves"
+            let short: Vec<u64> = keys.iter().map(|&k| (k ^ k >> 61) as u64).collect();
+            check(
+                short,
+                &mut scratch_short,
+                &format!("{n} 64-bit keys, shape {shape}"),
             );
-            let mut want = keys.clone();
-            want.sort_unstable();
-            let mut halves = keys.clone();
-            sort_keys(&mut keys, &mut scratch, false);
-            assert_eq!(keys, want, "{n} keys, shape {shape}");
-            sort_keys(&mut halves, &mut scratch, true);
-            assert_eq!(halves, want, "{n} keys, shape {shape}, in halves");
+            check(keys, &mut scratch, &format!("{n} keys, shape {shape}"));
         }
     }
 

@@ -840,6 +840,18 @@ unsafe fn split_16_avx512<const K: usize, const DIAG: bool>(
 mod tests {
     use super::*;
 
+    /// The vertex indices of `n` polygons corner by corner, padded with 16 `u32::MAX` (as
+    /// [`Near16::corners`] reads them).
+    fn corner_columns(verts: &[[u32; 4]], n: usize) -> Vec<Vec<u32>> {
+        (0..4)
+            .map(|c| {
+                (0..n + 16)
+                    .map(|x| verts.get(x).map_or(u32::MAX, |v| v[c]))
+                    .collect()
+            })
+            .collect()
+    }
+
     /// [`Lanes::pairs_16`] and [`Lanes::split_16`] with diagonal bounds against a brute
     /// force: the pairs of the bounds-free lists, less those sharing no vertex whose
     /// triangles lie apart along a diagonal by more than 10^-3 (computed here in `f64`
@@ -906,13 +918,7 @@ mod tests {
             .map(|c| [c[0], c[1], c[2], u32::MAX])
             .collect();
         let fan_bits: Vec<u8> = (0..n + 16).map(|_| rng.below(8) as u8).collect();
-        let cols: Vec<Vec<u32>> = (0..4)
-            .map(|c| {
-                (0..n + 16)
-                    .map(|x| verts.get(x).map_or(u32::MAX, |v| v[c]))
-                    .collect()
-            })
-            .collect();
+        let cols = corner_columns(&verts, n);
         let mut checked = [0usize; 2];
         for diag in super::super::diag::all_diags(&points, &corners) {
             for (range, others) in [
@@ -1234,13 +1240,7 @@ mod tests {
                 })
                 .collect();
             let fan_bits: Vec<u8> = (0..n + 16).map(|_| rng.below(8) as u8).collect();
-            let corners: Vec<Vec<u32>> = (0..4)
-                .map(|c| {
-                    (0..n + 16)
-                        .map(|x| verts.get(x).map_or(u32::MAX, |v| v[c]))
-                        .collect()
-                })
-                .collect();
+            let corners = corner_columns(&verts, n);
             for (range, others) in [
                 (0..16, 16..32),
                 (3..19, 3..19),
