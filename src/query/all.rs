@@ -916,7 +916,7 @@ pub struct AllStats {
     /// boxes and diagonal bounds meet.
     pub self_box_pairs: usize,
     /// Of them, pairs apart along a diagonal direction (epsilon 0, triangles; see
-    /// `backend::cpu::lanes::Diag`): not tested.
+    /// `backend::cpu::diag::Diag`): not tested.
     pub self_box_culled: usize,
     /// Self-collision: time and count of adjacency decisions (pairs sharing a vertex).
     pub self_adjacent_nanos: u64,
