@@ -67,6 +67,11 @@ impl Diag {
     /// sub-leaf's polygons), padded.
     pub fn set_union(&mut self, of: &Diag, starts: &[u32], par: bool) {
         self.fill(starts.len() - 1, par, |first, out| {
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU supports AVX-512F, checked just above.
+                return unsafe { union_avx512(of, &starts[first..], out) };
+            }
             let (lo, hi) = out.split_at_mut(6);
             for k in 0..6 {
                 for (i, (l, h)) in lo[k].iter_mut().zip(hi[k].iter_mut()).enumerate() {
@@ -128,6 +133,33 @@ impl Diag {
 /// 2^-140 (a subnormal `f32`): the absolute part of [`outward`]'s and [`outward_f32`]'s
 /// margins.
 const TINY: f32 = f32::from_bits(1 << 9);
+
+/// [`Diag::set_union`] for one chunk in AVX-512: each run (at most sixteen entries, read
+/// sixteen at a time from its start, padding included) reduced under a mask.
+///
+/// # Safety
+/// The CPU must support AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn union_avx512(of: &Diag, starts: &[u32], out: &mut [&mut [f32]; 12]) {
+    use std::arch::x86_64::*;
+    for i in 0..out[0].len() {
+        let r = starts[i] as usize..starts[i + 1] as usize;
+        assert!(r.len() <= 2 * LANES && r.start <= of.len());
+        let keep = ((1u32 << r.len()) - 1) as u16;
+        for k in 0..6 {
+            let (lo, hi) = (
+                &of.lo[k][r.start..r.start + 2 * LANES],
+                &of.hi[k][r.start..r.start + 2 * LANES],
+            );
+            // SAFETY: sixteen floats each (the arrays are padded past their last entry); no
+            // alignment needed.
+            let (lo, hi) = unsafe { (_mm512_loadu_ps(lo.as_ptr()), _mm512_loadu_ps(hi.as_ptr())) };
+            out[k][i] = _mm512_mask_reduce_min_ps(keep, lo);
+            out[k + 6][i] = _mm512_mask_reduce_max_ps(keep, hi);
+        }
+    }
+}
 
 /// Direction `k` of [`Diag`]: coordinate `a` plus `sign` times coordinate `b`.
 const DIRS: [(usize, usize, f32); 6] = [
@@ -457,5 +489,39 @@ mod tests {
             dropped > boxed / 5,
             "{dropped} of {boxed} box-meeting pairs dropped"
         );
+    }
+
+    /// A run's union is the least low and the greatest high of its entries, for runs of 1
+    /// to 16 entries (the last one ending at the padding), whole and in chunks shared out.
+    #[test]
+    fn union_is_the_runs_least_and_greatest() {
+        let mut rng = crate::geom::test_rng::Rng(31);
+        let points: Vec<[f32; 3]> = (0..600).map(|_| rng.v(10.0).map(|x| x as f32)).collect();
+        let corners: Vec<[u32; 3]> = (0..5000)
+            .map(|_| [0, 1, 2].map(|_| rng.below(600) as u32))
+            .collect();
+        let mut starts = vec![0u32];
+        while (*starts.last().unwrap() as usize) < corners.len() {
+            let next = *starts.last().unwrap() as usize + 1 + rng.below(16);
+            starts.push(next.min(corners.len()) as u32);
+        }
+        for d in all_diags(&points, &corners) {
+            for par in [false, true] {
+                let mut u = Diag::default();
+                u.set_union(&d, &starts, par);
+                assert_eq!(u.len(), starts.len() - 1);
+                for (s, w) in starts.windows(2).enumerate() {
+                    let r = w[0] as usize..w[1] as usize;
+                    for k in 0..6 {
+                        let lo = r.clone().map(|i| d.lo[k][i]).fold(f32::INFINITY, f32::min);
+                        let hi = r
+                            .clone()
+                            .map(|i| d.hi[k][i])
+                            .fold(f32::NEG_INFINITY, f32::max);
+                        assert_eq!((u.lo[k][s], u.hi[k][s]), (lo, hi), "run {s} direction {k}");
+                    }
+                }
+            }
+        }
     }
 }
