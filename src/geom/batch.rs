@@ -27,15 +27,17 @@ pub(crate) enum Kernel {
 
 /// Pairs gathered for one run of a kernel of `N` lanes: lane `l` is the pair of the
 /// triangles in lane `l` of `a` and `b`, named `at[l]`; the first `n` lanes are in use.
-struct Batch<K, const N: usize> {
-    a: TriLanes<N>,
-    b: TriLanes<N>,
-    at: [K; N],
-    n: usize,
+/// (Also the batches of [`crate::geom::contact`]'s many-pair kernel.)
+pub(crate) struct Batch<K, const N: usize> {
+    pub(crate) a: TriLanes<N>,
+    pub(crate) b: TriLanes<N>,
+    pub(crate) at: [K; N],
+    pub(crate) n: usize,
 }
 
 impl<K: Copy + Default, const N: usize> Batch<K, N> {
-    fn new() -> Batch<K, N> {
+    /// An empty batch.
+    pub(crate) fn new() -> Batch<K, N> {
         Batch {
             a: TriLanes::ZERO,
             b: TriLanes::ZERO,
@@ -46,7 +48,7 @@ impl<K: Copy + Default, const N: usize> Batch<K, N> {
 
     /// Pair `key` of triangles `a` and `b` into the next lane; true when the batch is full.
     #[inline(always)]
-    fn push(&mut self, key: K, a: &[P3; 3], b: &[P3; 3]) -> bool {
+    pub(crate) fn push(&mut self, key: K, a: &[P3; 3], b: &[P3; 3]) -> bool {
         self.a.set(self.n, a);
         self.b.set(self.n, b);
         self.at[self.n] = key;
@@ -66,7 +68,7 @@ impl<K: Copy + Default, const N: usize> Batch<K, N> {
     }
 
     /// Unused lanes repeat the first (their answers are dropped).
-    fn pad(&mut self) {
+    pub(crate) fn pad(&mut self) {
         self.a.pad(self.n);
         self.b.pad(self.n);
     }

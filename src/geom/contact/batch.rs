@@ -11,8 +11,6 @@ use super::contact_geometry_avx2;
 #[cfg(target_arch = "x86_64")]
 use super::four;
 use super::{contact_geometry, ContactGeometry};
-#[cfg(target_arch = "x86_64")]
-use crate::geom::lanes::TriLanes;
 use crate::geom::predicates::P3;
 
 /// Where [`contact_geometry_many`] reads its pairs' polygons: `fetch(i, [a0, a1], [b0,
@@ -120,38 +118,7 @@ pub(super) unsafe fn band_triangles_avx2(a: &[P3; 3], b: &[P3; 3]) -> ContactGeo
 /// One batch of [`many_avx2`]: lane `l < n` is the pair `(a, b)` lane `l`, whose answer
 /// goes to `out[at[l]]`; once padded, the other lanes repeat lane 0.
 #[cfg(target_arch = "x86_64")]
-struct Batch {
-    a: TriLanes,
-    b: TriLanes,
-    at: [usize; four::LANES],
-    n: usize,
-}
-
-#[cfg(target_arch = "x86_64")]
-impl Batch {
-    const EMPTY: Batch = Batch {
-        a: TriLanes::ZERO,
-        b: TriLanes::ZERO,
-        at: [0; four::LANES],
-        n: 0,
-    };
-
-    /// Pair `i`'s triangles into the next lane; true when the batch is full.
-    #[inline(always)]
-    fn push(&mut self, i: usize, a: &[P3; 3], b: &[P3; 3]) -> bool {
-        self.a.set(self.n, a);
-        self.b.set(self.n, b);
-        self.at[self.n] = i;
-        self.n += 1;
-        self.n == four::LANES
-    }
-
-    /// The unused lanes repeat the first (their answers are dropped).
-    fn pad(&mut self) {
-        self.a.pad(self.n);
-        self.b.pad(self.n);
-    }
-}
+type Batch = crate::geom::batch::Batch<usize, { four::LANES }>;
 
 /// A batch's computation ([`flush`]) compiled for one instruction set.
 #[cfg(target_arch = "x86_64")]
@@ -182,7 +149,7 @@ unsafe fn many_avx2<P: PolygonPairs>(
     } else {
         flush_avx2
     };
-    let mut batch = Batch::EMPTY;
+    let mut batch = Batch::new();
     // The pair being read (a quad's second triangles in `a1`, `b1`).
     let ([mut a0, mut a1], [mut b0, mut b1]) = ([[[0.0; 3]; 3]; 2], [[[0.0; 3]; 3]; 2]);
     for i in 0..out.len() {
