@@ -268,14 +268,12 @@ impl Lanes {
             // boxes (the padding included), `diag` as many entries as the lanes.
             return unsafe {
                 let first = range.start as u32;
-                match diag {
-                    Some(_) => {
-                        pairs_16_avx512::<true>(&run, cands, keep, upper, first, c0, diag, out)
-                    }
-                    None => {
-                        pairs_16_avx512::<false>(&run, cands, keep, upper, first, c0, None, out)
-                    }
-                }
+                let kernel = if diag.is_some() {
+                    pairs_16_avx512::<true>
+                } else {
+                    pairs_16_avx512::<false>
+                };
+                kernel(&run, cands, keep, upper, first, c0, diag, out)
             };
         }
         let mut culled = 0;
@@ -327,20 +325,13 @@ impl Lanes {
             // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds
             // sixteen boxes, `near` sixteen polygons' corners and fans (asserted above).
             return unsafe {
-                match (near.k, near.diag.is_some()) {
-                    (3, true) => split_16_avx512::<3, true>(
-                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
-                    ),
-                    (3, false) => split_16_avx512::<3, false>(
-                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
-                    ),
-                    (_, true) => split_16_avx512::<4, true>(
-                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
-                    ),
-                    (_, false) => split_16_avx512::<4, false>(
-                        &run, cands, keep, upper, first, c0, near, apart, adjacent,
-                    ),
-                }
+                let kernel = match (near.k, near.diag.is_some()) {
+                    (3, true) => split_16_avx512::<3, true>,
+                    (3, false) => split_16_avx512::<3, false>,
+                    (_, true) => split_16_avx512::<4, true>,
+                    (_, false) => split_16_avx512::<4, false>,
+                };
+                kernel(&run, cands, keep, upper, first, c0, near, apart, adjacent)
             };
         }
         self.split_16_plain(range, cands, c0, upper, near, apart, adjacent)
