@@ -161,10 +161,11 @@ impl<K: Copy + Default> Fours<K> {
             second,
         } = self;
         match *kernel {
-            Kernel::Exact if *on_eight => gather_exact(
+            Kernel::Exact if *on_eight => gather(
                 [wide, wide_plane],
                 keys,
                 judge,
+                shared_axis_plane,
                 |b, judge| {
                     // SAFETY: the CPU has AVX-512F (`eight` is set only then, `with`).
                     let (decided, meets) = unsafe { eight::intersect(&b.a, &b.b) };
@@ -176,10 +177,11 @@ impl<K: Copy + Default> Fours<K> {
                     b.answer(decided, meets, judge);
                 },
             ),
-            Kernel::Exact => gather_exact(
+            Kernel::Exact => gather(
                 [first, second],
                 keys,
                 judge,
+                shared_axis_plane,
                 |b, judge| {
                     // SAFETY: a `Fours` exists only on a CPU with AVX2 and FMA (`with`).
                     let (decided, meets) = unsafe { four::intersect(&b.a, &b.b) };
@@ -192,7 +194,11 @@ impl<K: Copy + Default> Fours<K> {
                 },
             ),
             Kernel::Band { h, both } => {
-                gather(first, keys, judge, |b, judge| {
+                // Every pair in space (the band kernel has no plane variant): the plane
+                // batch is never filled.
+                let space_only = |_: &[P3; 3], _: &[P3; 3]| None;
+                let mut unused = Batch::new();
+                let run = |b: &mut Batch<K, LANES>, judge: &mut _| {
                     // SAFETY: as above.
                     let far = unsafe { band_far(&b.a, &b.b, h, both) };
                     for l in 0..std::mem::take(&mut b.n) {
@@ -205,7 +211,15 @@ impl<K: Copy + Default> Fours<K> {
                             second.answer(decided, meets, judge);
                         }
                     }
-                });
+                };
+                gather(
+                    [first, &mut unused],
+                    keys,
+                    judge,
+                    space_only,
+                    run,
+                    |_, _| {},
+                );
                 if second.n > 0 {
                     second.pad();
                     // SAFETY: as above.
@@ -217,15 +231,19 @@ impl<K: Copy + Default> Fours<K> {
     }
 }
 
-/// Every pair of `keys` whose polygons are both triangles into the lanes of `b`, `run` on
-/// each full batch and on the last one (padded), which it empties; the other pairs by the
-/// scalar test.
+/// Every pair of `keys` whose polygons are both triangles into lanes: those that
+/// `plane_axis` puts in one coordinate plane (the axis it drops) into the lanes of
+/// `plane`, projected on it, the others into the lanes of `space`; `run_space` and
+/// `run_plane` on each full batch of theirs and on their last one (padded), which they
+/// empty. The other pairs by the scalar test.
 #[inline(always)]
 fn gather<K: Copy + Default, const N: usize, J: Judge<K>>(
-    b: &mut Batch<K, N>,
+    [space, plane]: [&mut Batch<K, N>; 2],
     keys: impl Iterator<Item = K> + Clone,
     judge: &mut J,
-    mut run: impl FnMut(&mut Batch<K, N>, &mut J),
+    plane_axis: impl Fn(&[P3; 3], &[P3; 3]) -> Option<usize>,
+    mut run_space: impl FnMut(&mut Batch<K, N>, &mut J),
+    mut run_plane: impl FnMut(&mut Batch<K, N>, &mut J),
 ) {
     // The pair this many ahead is announced ([`Judge::prefetch`]): its triangles are
     // fetched from memory while the pairs before it are gathered and tested.
@@ -236,45 +254,7 @@ fn gather<K: Copy + Default, const N: usize, J: Judge<K>>(
             judge.prefetch(next);
         }
         match judge.triangles(key) {
-            Some([ta, tb]) => {
-                if b.push(key, ta, tb) {
-                    run(b, judge);
-                }
-            }
-            None => {
-                if judge.scalar(key) {
-                    judge.found(key);
-                }
-            }
-        }
-    }
-    if b.n > 0 {
-        b.pad();
-        run(b, judge);
-    }
-}
-
-/// [`gather`] for the exact test: the pairs of two triangles in one coordinate plane
-/// ([`shared_axis_plane`]) into the lanes of `plane`, projected on it, `run_plane` on each
-/// of its full batches and on its last one; the other pairs of two triangles into the
-/// lanes of `space`, for `run_space`.
-#[inline(always)]
-fn gather_exact<K: Copy + Default, const N: usize, J: Judge<K>>(
-    [space, plane]: [&mut Batch<K, N>; 2],
-    keys: impl Iterator<Item = K> + Clone,
-    judge: &mut J,
-    mut run_space: impl FnMut(&mut Batch<K, N>, &mut J),
-    mut run_plane: impl FnMut(&mut Batch<K, N>, &mut J),
-) {
-    // As in `gather`.
-    const AHEAD: usize = 16;
-    let mut ahead = keys.clone().skip(AHEAD);
-    for key in keys {
-        if let Some(next) = ahead.next() {
-            judge.prefetch(next);
-        }
-        match judge.triangles(key) {
-            Some([ta, tb]) => match shared_axis_plane(ta, tb) {
+            Some([ta, tb]) => match plane_axis(ta, tb) {
                 None => {
                     if space.push(key, ta, tb) {
                         run_space(space, judge);
