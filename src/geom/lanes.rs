@@ -48,6 +48,12 @@ pub(crate) trait Float:
     fn eq(self, y: Self) -> Self::Mask;
     /// `self > y ? self : y` per lane (`maxpd`: `y` where either is NaN).
     fn max(self, y: Self) -> Self;
+    /// [`Float::LANES`] values from `row`.
+    ///
+    /// # Safety
+    /// The CPU has the vector's instructions; `row` points to `LANES` `f64` aligned to the
+    /// vector's size.
+    unsafe fn load(row: *const f64) -> Self;
 }
 
 /// The lane masks of a [`Float`] (set or clear per lane).
@@ -195,6 +201,12 @@ impl Float for F {
     fn max(self, y: F) -> F {
         // SAFETY: the invariant.
         unsafe { F(_mm256_max_pd(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    unsafe fn load(row: *const f64) -> F {
+        // SAFETY: the caller's promise.
+        unsafe { F(_mm256_load_pd(row)) }
     }
 }
 
@@ -423,58 +435,53 @@ impl<const N: usize> TriLanes<N> {
     }
 }
 
-impl TriLanes {
-    /// The lanes as vectors.
+impl<const N: usize> TriLanes<N> {
+    /// The lanes as vectors of `V` (`N` lanes: checked at compile time).
     ///
     /// # Safety
-    /// The CPU has AVX2 and FMA.
+    /// The CPU has `V`'s instructions (AVX2 and FMA for [`F`]; AVX-512F for
+    /// [`super::lanes8::F8`]).
     #[inline(always)]
-    pub(crate) unsafe fn load(&self) -> [W; 3] {
+    pub(crate) unsafe fn load<V: Float>(&self) -> [W<V>; 3] {
         // (No closures: see the module's note.)
         // SAFETY: the caller's promise.
         unsafe { [self.vertex(0), self.vertex(1), self.vertex(2)] }
     }
 
-    /// The lanes' `x` and `y` as vectors, per vertex (triangles stored by
+    /// The lanes' `x` and `y` as vectors of `V`, per vertex (triangles stored by
     /// [`TriLanes::set_plane`]).
     ///
     /// # Safety
-    /// The CPU has AVX2 and FMA.
+    /// As [`TriLanes::load`].
     #[inline(always)]
-    pub(crate) unsafe fn load_plane(&self) -> [[F; 2]; 3] {
+    pub(crate) unsafe fn load_plane<V: Float>(&self) -> [[V; 2]; 3] {
+        const { assert!(V::LANES == N) };
         let v = &self.0;
-        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (as in
+        // SAFETY: the caller's promise; each row is `N` f64 aligned to `8 N` bytes (as in
         // `vertex`).
         unsafe {
             [
-                [
-                    F(_mm256_load_pd(v[0][0].as_ptr())),
-                    F(_mm256_load_pd(v[0][1].as_ptr())),
-                ],
-                [
-                    F(_mm256_load_pd(v[1][0].as_ptr())),
-                    F(_mm256_load_pd(v[1][1].as_ptr())),
-                ],
-                [
-                    F(_mm256_load_pd(v[2][0].as_ptr())),
-                    F(_mm256_load_pd(v[2][1].as_ptr())),
-                ],
+                [V::load(v[0][0].as_ptr()), V::load(v[0][1].as_ptr())],
+                [V::load(v[1][0].as_ptr()), V::load(v[1][1].as_ptr())],
+                [V::load(v[2][0].as_ptr()), V::load(v[2][1].as_ptr())],
             ]
         }
     }
 
     /// # Safety
-    /// The CPU has AVX2 and FMA.
+    /// As [`TriLanes::load`].
     #[inline(always)]
-    unsafe fn vertex(&self, k: usize) -> W {
+    unsafe fn vertex<V: Float>(&self, k: usize) -> W<V> {
+        const { assert!(V::LANES == N) };
         let v = &self.0[k];
-        // SAFETY: the caller's promise; each row is four f64 aligned to 32 bytes (rows at
-        // multiples of 32 bytes from the start, which the type aligns to 64).
+        // SAFETY: the caller's promise; each row is `N` f64 aligned to `8 N` bytes (rows
+        // at multiples of `8 N` bytes from the start, which the type aligns to 64, and
+        // `8 N` divides 64).
         unsafe {
             W {
-                x: F(_mm256_load_pd(v[0].as_ptr())),
-                y: F(_mm256_load_pd(v[1].as_ptr())),
-                z: F(_mm256_load_pd(v[2].as_ptr())),
+                x: V::load(v[0].as_ptr()),
+                y: V::load(v[1].as_ptr()),
+                z: V::load(v[2].as_ptr()),
             }
         }
     }

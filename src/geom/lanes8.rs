@@ -10,7 +10,7 @@
 use std::arch::x86_64::*;
 use std::ops::{Add, Mul, Neg, Sub};
 
-use super::lanes::{Float, Mask, TriLanes, W};
+use super::lanes::{Float, Mask};
 
 /// Eight `f64` lanes. **Invariant**: a value of this type exists only on a CPU with
 /// AVX-512F (and so AVX2 and FMA): the only ways to make one are `unsafe` functions whose
@@ -55,6 +55,12 @@ impl Float for F8 {
     fn max(self, y: F8) -> F8 {
         // SAFETY: the invariant.
         unsafe { F8(_mm512_max_pd(self.0, y.0)) }
+    }
+
+    #[inline(always)]
+    unsafe fn load(row: *const f64) -> F8 {
+        // SAFETY: the caller's promise.
+        unsafe { F8(_mm512_load_pd(row)) }
     }
 }
 
@@ -127,62 +133,5 @@ impl Mask for M8 {
     #[inline(always)]
     fn selm(self, x: M8, y: M8) -> M8 {
         M8((self.0 & x.0) | (!self.0 & y.0))
-    }
-}
-
-impl TriLanes<8> {
-    /// The lanes as vectors.
-    ///
-    /// # Safety
-    /// The CPU has AVX-512F.
-    #[inline(always)]
-    pub(crate) unsafe fn load(&self) -> [W<F8>; 3] {
-        // (No closures: see the module's note.)
-        // SAFETY: the caller's promise.
-        unsafe { [self.vertex(0), self.vertex(1), self.vertex(2)] }
-    }
-
-    /// The lanes' `x` and `y` as vectors, per vertex (triangles stored by
-    /// [`TriLanes::set_plane`]).
-    ///
-    /// # Safety
-    /// The CPU has AVX-512F.
-    #[inline(always)]
-    pub(crate) unsafe fn load_plane(&self) -> [[F8; 2]; 3] {
-        let v = &self.0;
-        // SAFETY: the caller's promise; each row is eight f64 aligned to 64 bytes (as in
-        // `vertex`).
-        unsafe {
-            [
-                [
-                    F8(_mm512_load_pd(v[0][0].as_ptr())),
-                    F8(_mm512_load_pd(v[0][1].as_ptr())),
-                ],
-                [
-                    F8(_mm512_load_pd(v[1][0].as_ptr())),
-                    F8(_mm512_load_pd(v[1][1].as_ptr())),
-                ],
-                [
-                    F8(_mm512_load_pd(v[2][0].as_ptr())),
-                    F8(_mm512_load_pd(v[2][1].as_ptr())),
-                ],
-            ]
-        }
-    }
-
-    /// # Safety
-    /// The CPU has AVX-512F.
-    #[inline(always)]
-    unsafe fn vertex(&self, k: usize) -> W<F8> {
-        let v = &self.0[k];
-        // SAFETY: the caller's promise; each row is eight f64 aligned to 64 bytes (rows at
-        // multiples of 64 bytes from the start, which the type aligns to 64).
-        unsafe {
-            W {
-                x: F8(_mm512_load_pd(v[0].as_ptr())),
-                y: F8(_mm512_load_pd(v[1].as_ptr())),
-                z: F8(_mm512_load_pd(v[2].as_ptr())),
-            }
-        }
     }
 }

@@ -42,7 +42,12 @@ type V<T> = [T; 2];
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn four(a: &TriLanes, b: &TriLanes) -> (u32, u32) {
     // SAFETY: the caller's promise.
-    let (ta, tb) = unsafe { (a.load_plane(), b.load_plane()) };
+    let (ta, tb) = unsafe {
+        (
+            a.load_plane::<crate::geom::lanes::F>(),
+            b.load_plane::<crate::geom::lanes::F>(),
+        )
+    };
     intersect_lanes(&ta, &tb)
 }
 
@@ -53,7 +58,12 @@ pub(crate) unsafe fn four(a: &TriLanes, b: &TriLanes) -> (u32, u32) {
 #[target_feature(enable = "avx2,fma,avx512f")]
 pub(crate) unsafe fn eight(a: &TriLanes<8>, b: &TriLanes<8>) -> (u32, u32) {
     // SAFETY: the caller's promise.
-    let (ta, tb) = unsafe { (a.load_plane(), b.load_plane()) };
+    let (ta, tb) = unsafe {
+        (
+            a.load_plane::<crate::geom::lanes8::F8>(),
+            b.load_plane::<crate::geom::lanes8::F8>(),
+        )
+    };
     intersect_lanes(&ta, &tb)
 }
 

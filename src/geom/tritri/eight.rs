@@ -27,6 +27,11 @@ use crate::geom::lanes::TriLanes;
 #[target_feature(enable = "avx2,fma,avx512f")]
 pub(crate) unsafe fn intersect(a: &TriLanes<8>, b: &TriLanes<8>) -> (u32, u32) {
     // SAFETY: the caller's promise.
-    let (ta, tb) = unsafe { (a.load(), b.load()) };
+    let (ta, tb) = unsafe {
+        (
+            a.load::<crate::geom::lanes8::F8>(),
+            b.load::<crate::geom::lanes8::F8>(),
+        )
+    };
     super::four::intersect_lanes(&ta, &tb)
 }

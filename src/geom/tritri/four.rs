@@ -80,7 +80,12 @@ fn lonely<M: Mask>(p: [M; 3]) -> (M, M) {
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn intersect(a: &TriLanes, b: &TriLanes) -> (u32, u32) {
     // SAFETY: the caller's promise.
-    let (ta, tb) = unsafe { (a.load(), b.load()) };
+    let (ta, tb) = unsafe {
+        (
+            a.load::<crate::geom::lanes::F>(),
+            b.load::<crate::geom::lanes::F>(),
+        )
+    };
     intersect_lanes(&ta, &tb)
 }
 
