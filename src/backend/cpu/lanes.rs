@@ -843,6 +843,27 @@ mod tests {
             .collect()
     }
 
+    /// The [`Near16`] of the range starting at `start` (its columns and fans read from
+    /// there) against the candidates `cand`.
+    fn near_at<'a>(
+        k: usize,
+        cols: &'a [Vec<u32>],
+        fans: &'a [u8],
+        start: usize,
+        cand: &'a [[u32; 4]],
+        proven: bool,
+        diag: Option<&'a Diag>,
+    ) -> Near16<'a> {
+        Near16 {
+            k,
+            corners: [0, 1, 2, 3].map(|c| &cols[c][start..]),
+            fans: &fans[start..],
+            cand,
+            proven,
+            diag,
+        }
+    }
+
     /// [`Lanes::pairs_16`] and [`Lanes::split_16`] with diagonal bounds against a brute
     /// force: the pairs of the bounds-free lists, less those sharing no vertex whose
     /// triangles lie apart along a diagonal by more than 10^-3 (computed here in `f64`
@@ -965,20 +986,8 @@ mod tests {
                     (want_all, want_cut),
                     "pairs_16 {range:?} {others:?}"
                 );
-                let at = range.start..;
-                let near = Near16 {
-                    k: 3,
-                    corners: [
-                        &cols[0][at.clone()],
-                        &cols[1][at.clone()],
-                        &cols[2][at.clone()],
-                        &cols[3][at.clone()],
-                    ],
-                    fans: &fan_bits[at],
-                    cand: &verts[others.clone()],
-                    proven: false,
-                    diag: Some(&diag),
-                };
+                let cand = &verts[others.clone()];
+                let near = near_at(3, &cols, &fan_bits, range.start, cand, false, Some(&diag));
                 let want = (want_apart, want_adj, (want_fans, want_cut));
                 for plain in [false, true] {
                     let (mut apart, mut adj) = (Vec::new(), Vec::new());
@@ -1242,20 +1251,8 @@ mod tests {
             ] {
                 for proven in [false, true] {
                     let upper = range == others;
-                    let at = range.start..;
-                    let near = Near16 {
-                        k,
-                        corners: [
-                            &corners[0][at.clone()],
-                            &corners[1][at.clone()],
-                            &corners[2][at.clone()],
-                            &corners[3][at.clone()],
-                        ],
-                        fans: &fan_bits[at],
-                        cand: &verts[others.clone()],
-                        proven,
-                        diag: None,
-                    };
+                    let cand = &verts[others.clone()];
+                    let near = near_at(k, &corners, &fan_bits, range.start, cand, proven, None);
                     let (mut want_apart, mut want_adj, mut want_fans) = (Vec::new(), Vec::new(), 0);
                     for (c, q) in others.clone().enumerate() {
                         for p in range.clone() {
