@@ -13,6 +13,7 @@ use crate::error::Result;
 pub mod all;
 pub mod continuous;
 pub mod impact;
+mod neighbours;
 
 pub use crate::backend::{Contact, QueryStats};
 

@@ -11,7 +11,8 @@
 //!   polygons that share a vertex index are decided by [`adjacent_polygons_meet`] (they
 //!   count only where they meet beyond what they share, at every epsilon).
 
-use crate::backend::cpu::lanes::{Diag, Lanes, Near16};
+use super::neighbours::{Neighbours, SUB_MAX};
+use crate::backend::cpu::lanes::{Diag, Lanes};
 use crate::backend::Pair;
 use crate::geom::adjacent::{adjacent_polygons_meet, triangles_touch_only_at_joint_planes};
 use crate::geom::fan::Fans;
@@ -86,7 +87,7 @@ pub fn mesh_pairs(
 /// Polygons per sub-leaf of a self-colliding mesh (see [`SelfPrep`]).
 const SUB_LEAF: usize = 16;
 // A sub-leaf's polygon boxes are tested sixteen at a time (`Lanes::each_pair_16`).
-const _: () = assert!(SUB_LEAF <= 16);
+const _: () = assert!(SUB_LEAF <= SUB_MAX);
 
 /// Polygons from which [`SelfPrep::make`] shares a mesh's preparation between workers.
 const PAR_MIN: usize = 4096;
@@ -318,10 +319,6 @@ fn leaf_certify(
     }
 }
 
-/// Entries past the last polygon in [`SelfPrep`]'s per-polygon arrays that
-/// [`Lanes::split_16`] reads sixteen at a time.
-const PAD_16: usize = 16;
-
 /// One self-colliding mesh made ready for a query, once, before the tasks: its leaf pairs,
 /// and each leaf cut into sub-leaves of at most [`SUB_LEAF`] polygons (median splits of
 /// the polygons' box centres, as the leaves themselves), with their boxes. A leaf pair's
@@ -360,21 +357,13 @@ pub struct SelfPrep {
     diag_idle: u32,
     apart_left: std::sync::atomic::AtomicUsize,
     diag_dropped: std::sync::atomic::AtomicUsize,
-    /// The sub-leaves holding a vertex index of sub-leaf `s` (itself included), ascending:
-    /// `sub_near[sub_near_start[s]..sub_near_start[s + 1]]` (made with the layout). Two
-    /// sub-leaves not so related have no pair sharing a vertex: all their box pairs go to
-    /// the exact test, listed without a decision per pair ([`Lanes::pairs_16`]).
-    sub_near_start: Vec<u32>,
-    sub_near: Vec<u32>,
+    /// Which polygons share a vertex index (made with the layout): the box stage leaves
+    /// those pairs out, and the neighbour tasks list the ones to test around `open`.
+    near: Neighbours,
     /// Per polygon, numbered by position in `order` (as every per-polygon array here and
     /// the pairs [`SelfPrep::box_pairs`] names): the caller's vertex indices (the first
     /// `k` count), kept with the layout.
     verts: Vec<[u32; 4]>,
-    /// The same, corner by corner (`corners[c][x]`: position `x`'s corner `c`; `u32::MAX`
-    /// past `k`), and the polygons' corner count `k`: what [`Lanes::split_16`] loads
-    /// sixteen at a time. Padded with [`PAD_16`] entries past the last polygon (`u32::MAX`),
-    /// as is `fan_bits` (0).
-    corners: [Vec<u32>; 4],
     k: usize,
     /// A triangle mesh's corner slots per position (made with the layout): a float mesh's
     /// triangles are read through them in order (not through `order` and the polygon list).
@@ -406,13 +395,16 @@ pub struct SelfPrep {
     piece_of: Vec<u32>,
     layout_key: Option<(u32, usize, usize)>,
     /// Vertex-fan certificates ([`crate::geom::fan`]; triangle meshes with consistently
-    /// oriented edges): the fans (made with the layout), each vertex's verdict this query,
-    /// and per leaf-order polygon the corners whose fan is proven (bit `c`): a neighbour
-    /// pair sharing such a corner is decided without a test.
+    /// oriented edges): the fans (made with the layout) and each vertex index's verdict
+    /// this query (empty: none proven): a neighbour pair sharing a proven one is decided
+    /// without a test.
     fans: Fans,
     fan_scratch: Vec<bool>,
     fan_ok: Vec<bool>,
-    fan_bits: Vec<u8>,
+    /// The vertex indices held by two polygons or more whose fan is not proven this
+    /// query: the neighbour pairs left to a test lie around them
+    /// ([`Neighbours::pairs_at`]; shared out between tasks, see [`self_neighbours`]).
+    pub open: Vec<u32>,
     /// Vertices whose fan is proven in the last [`SelfPrep::make`].
     pub certified_fans: usize,
     /// Patches proven by their certificate in the last [`SelfPrep::make`].
@@ -486,24 +478,19 @@ impl SelfPrep {
                 self.turns.extend(self.tris.iter().map(turn_mask));
             }
         }
-        // The fans' verdicts, then each polygon's proven corners.
+        // The fans' verdicts, then the vertices around which neighbours are left to test.
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
         self.fans
             .prove(tris, turns, par, &mut self.fan_scratch, &mut self.fan_ok);
         self.certified_fans = self.fan_ok.iter().filter(|&&x| x).count();
-        self.fan_bits.clear();
-        if self.fan_ok.is_empty() {
-            self.fan_bits.resize(n + PAD_16, 0);
-        } else {
-            let ok = &self.fan_ok;
-            let bits = |v: &[u32; 4]| (0..3).fold(0, |b, c| b | (ok[v[c] as usize] as u8) << c);
-            if par {
-                self.fan_bits.par_extend(self.verts.par_iter().map(bits));
-            } else {
-                self.fan_bits.extend(self.verts.iter().map(bits));
-            }
-            self.fan_bits.resize(n + PAD_16, 0);
-        }
+        self.open.clear();
+        let (near, ok) = (&self.near, &self.fan_ok);
+        self.open.extend(
+            near.shared_vertices()
+                .iter()
+                .copied()
+                .filter(|&v| !ok.get(v as usize).is_some_and(|&x| x)),
+        );
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
         let layouts = &self.layouts;
         let cert = |check: &mut PatchCheck, l: usize| {
@@ -715,56 +702,15 @@ impl SelfPrep {
             );
         }
         self.k = m.vertices_per_polygon();
-        for (c, at) in self.corners.iter_mut().enumerate() {
-            at.clear();
-            at.extend(
-                self.verts
-                    .iter()
-                    .map(|v| if c < self.k { v[c] } else { u32::MAX }),
-            );
-            at.resize(n + PAD_16, u32::MAX);
-        }
-        self.make_near(self.k);
+        self.near = Neighbours::new(&self.verts, self.k, m.vertex_count(), &self.sub_start);
         self.layout_key = Some(key);
     }
 
-    /// `sub_near` (the layout's sub-leaves and vertex indices made): each vertex index's
-    /// sub-leaves, then every two of them near each other.
-    fn make_near(&mut self, k: usize) {
-        let subs = self.sub_start.len() - 1;
-        let mut held: Vec<(u32, u32)> = Vec::with_capacity(self.verts.len() * k);
-        for s in 0..subs {
-            for v in &self.verts[self.sub(s)] {
-                held.extend(v[..k].iter().map(|&x| (x, s as u32)));
-            }
-        }
-        held.sort_unstable();
-        held.dedup();
-        let mut near: Vec<(u32, u32)> = Vec::new();
-        for group in held.chunk_by(|x, y| x.0 == y.0) {
-            for &(_, a) in group {
-                near.extend(group.iter().map(|&(_, b)| (a, b)));
-            }
-        }
-        near.sort_unstable();
-        near.dedup();
-        self.sub_near_start.clear();
-        self.sub_near_start.resize(subs + 1, 0);
-        for &(a, _) in &near {
-            self.sub_near_start[a as usize + 1] += 1;
-        }
-        for s in 0..subs {
-            self.sub_near_start[s + 1] += self.sub_near_start[s];
-        }
-        self.sub_near.clear();
-        self.sub_near.extend(near.iter().map(|&(_, b)| b));
-    }
-
-    /// Do sub-leaves `a` and `b` hold a common vertex index?
+    /// Do sub-leaves `a` and `b` lie in one patch proven free of self-intersection?
     #[inline]
-    fn near(&self, a: usize, b: usize) -> bool {
-        let r = self.sub_near_start[a] as usize..self.sub_near_start[a + 1] as usize;
-        self.sub_near[r].contains(&(b as u32))
+    fn together(&self, a: usize, b: usize) -> bool {
+        let (pa, pb) = (self.sub_patch[a], self.sub_patch[b]);
+        pa == pb && self.patch_cert[pa as usize] != 0
     }
 
     /// The range of `order` of sub-leaf `s`.
@@ -773,17 +719,15 @@ impl SelfPrep {
         self.sub_start[s] as usize..self.sub_start[s + 1] as usize
     }
 
-    /// The polygons `p` of leaf `i` and `q` of leaf `j` (positions in `order`) whose boxes
-    /// meet once `p`'s is grown by `h` (`p != q`), each unordered pair once, as `[p, q]`:
-    /// those sharing no vertex index appended to `apart`; those sharing one, unless
-    /// `proven_subs` of their two sub-leaves says that both lie in a patch proven free of
-    /// self-intersection, counted (the result) where a shared corner of `p` has a proven
-    /// fan, else appended to `adjacent`. Two sub-leaves sharing no vertex index list their
-    /// pairs without looking at vertices ([`Lanes::pairs_16`]), the others split them
-    /// ([`Lanes::split_16`]). With `exact` (epsilon 0) the pairs of proven sub-leaf pairs
-    /// are not enumerated at all. `subs` is scratch.
+    /// The polygons `p` of leaf `i` and `q` of leaf `j` (positions in `order`) sharing no
+    /// vertex index whose boxes meet once `p`'s is grown by `h` (`p != q`), each unordered
+    /// pair once, as `[p, q]`, appended to `apart`, less those apart along a diagonal
+    /// (counted: the second result). Pairs sharing a vertex index are left out of the box
+    /// tests (their boxes always meet; [`Neighbours`] says which they are) and counted (the
+    /// first result) unless `proven_subs` of their two sub-leaves says that both lie in a
+    /// patch proven free of self-intersection. With `exact` (epsilon 0) the pairs of
+    /// proven sub-leaf pairs are not enumerated at all. `subs` is scratch.
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     fn box_pairs(
         &self,
         i: usize,
@@ -792,7 +736,6 @@ impl SelfPrep {
         subs: &mut Vec<[u32; 2]>,
         mut proven_subs: impl FnMut(usize, usize) -> bool,
         apart: &mut Vec<[u32; 2]>,
-        adjacent: &mut Vec<[u32; 2]>,
     ) -> (usize, usize) {
         let (diag, sub_diag) = self.diags();
         let (si, sj) = (
@@ -816,53 +759,39 @@ impl SelfPrep {
                 let cands = &self.sub_boxes[rb];
                 let upper = i == j && a == b;
                 self.sub_grown
-                    .pairs_16(ra.clone(), cands, b as u32, upper, sub_diag, subs);
+                    .pairs_16(ra.clone(), cands, b as u32, upper, sub_diag, None, subs);
             }
         }
-        let (mut fans, mut culled) = (0, 0);
+        let (mut shared, mut culled) = (0, 0);
         for &[a, b] in subs.iter() {
             let (a, b) = (a as usize, b as usize);
             let proven = proven_subs(a, b);
             if proven && exact {
                 continue;
             }
-            let rb = self.sub(b);
-            let cands = &self.boxes[rb.clone()];
-            if !self.near(a, b) {
-                culled +=
-                    self.lanes
-                        .pairs_16(self.sub(a), cands, rb.start as u32, a == b, diag, apart);
-                continue;
-            }
-            let at = self.sub_start[a] as usize..;
-            let c = &self.corners;
-            let near = Near16 {
-                k: self.k,
-                corners: [
-                    &c[0][at.clone()],
-                    &c[1][at.clone()],
-                    &c[2][at.clone()],
-                    &c[3][at.clone()],
-                ],
-                fans: &self.fan_bits[at],
-                cand: &self.verts[rb.clone()],
-                proven,
-                diag,
+            // The lower sub-leaf in the lanes, the other's polygons as candidates (the
+            // masks are kept that way round).
+            let (lo, hi) = (a.min(b), a.max(b));
+            let rh = self.sub(hi);
+            let cands = &self.boxes[rh.clone()];
+            let (excl, count) = if lo == hi {
+                let (own, count) = self.near.within(lo, rh.clone());
+                (Some(own), count)
+            } else {
+                match self.near.between(lo, hi) {
+                    Some((m, count)) => (Some(&m[..rh.len()]), count),
+                    None => (None, 0),
+                }
             };
-            // Within one sub-leaf, candidate `y` against the boxes after it only.
-            let (f, c) = self.lanes.split_16(
-                self.sub(a),
-                cands,
-                rb.start as u32,
-                a == b,
-                &near,
-                apart,
-                adjacent,
-            );
-            fans += f;
-            culled += c;
+            let c0 = rh.start as u32;
+            culled += self
+                .lanes
+                .pairs_16(self.sub(lo), cands, c0, lo == hi, diag, excl, apart);
+            if !proven {
+                shared += count;
+            }
         }
-        (fans, culled)
+        (shared, culled)
     }
 }
 
@@ -967,68 +896,46 @@ pub(crate) fn nanos_since(t: Instant) -> u64 {
     t.elapsed().as_nanos() as u64
 }
 
-/// The self-collision pairs of mesh `id` (made ready in `prep`) among the given leaf
-/// pairs, appended to `out` (caller's polygon numbering, `polygon_a < polygon_b`, any
-/// order); counts and times added to `st`.
+/// The self-collision pairs of mesh `id` (made ready in `prep`) sharing a vertex index
+/// among the open vertices `prep.open[range]` ([`SelfPrep::open`]: those whose fan is not
+/// proven), each decided by [`adjacent_polygons_meet`] (most at once by
+/// [`triangles_touch_only_at_joint_planes`]), appended to `out` as [`self_pairs`] does;
+/// counts and times added to `st`. The pairs of all open vertices with those of all leaf
+/// pairs are the mesh's self-collision answer.
 #[allow(clippy::too_many_arguments)]
-pub fn self_pairs(
+pub fn self_neighbours(
     id: u32,
     m: &Mesh,
     prep: &SelfPrep,
-    h: f64,
-    leaf_pairs: &[(u32, u32)],
+    range: std::ops::Range<usize>,
     s: &mut SelfScratch,
     out: &mut Vec<Pair>,
     st: &mut AllStats,
 ) {
     let t = Instant::now();
-    s.adjacent.clear();
-    s.apart.clear();
     let k = m.vertices_per_polygon();
-    let exact = h == 0.0;
-    let (mut fans, mut culled) = (0, 0);
-    for &(i, j) in leaf_pairs {
-        // Two sub-leaves are proven together when they lie in one proven patch.
-        let proven_subs = |a: usize, b: usize| {
-            let (pa, pb) = (prep.sub_patch[a], prep.sub_patch[b]);
-            pa == pb && prep.patch_cert[pa as usize] != 0
-        };
-        // Proven patches meet only where they share, and so do two triangles around a
-        // vertex whose fan is proven: such neighbours need no decision.
-        let (f, c) = prep.box_pairs(
-            i as usize,
-            j as usize,
-            exact,
-            &mut s.subs,
-            proven_subs,
-            &mut s.apart,
-            &mut s.adjacent,
-        );
-        fans += f;
-        culled += c;
+    s.adjacent.clear();
+    let near = &prep.near;
+    let together = |p: u32, q: u32| prep.together(near.sub_of(p as usize), near.sub_of(q as usize));
+    // The polygons around an open vertex lie anywhere in the mesh's arrays: those of the
+    // vertex a few ahead are asked for while this one's pairs are listed.
+    const AHEAD: usize = 8;
+    let open = &prep.open[range];
+    for (x, &v) in open.iter().enumerate() {
+        if let Some(&w) = open.get(x + 2 * AHEAD) {
+            near.prefetch_polys(w as usize);
+        }
+        if let Some(&w) = open.get(x + AHEAD) {
+            for &p in near.polys(w as usize) {
+                prefetch_item(&prep.verts, p as usize);
+                prefetch_item(&prep.tris, p as usize);
+            }
+        }
+        near.pairs_at(v, &prep.verts, k, &prep.fan_ok, together, &mut s.adjacent);
     }
-    st.self_box_nanos += nanos_since(t);
-    prep.apart_left
-        .fetch_add(s.apart.len(), std::sync::atomic::Ordering::Relaxed);
-    prep.diag_dropped
-        .fetch_add(culled, std::sync::atomic::Ordering::Relaxed);
-    st.self_box_pairs += s.adjacent.len() + s.apart.len() + fans + culled;
-    st.self_box_culled += culled;
-    st.self_adjacent_fans += fans;
     st.self_adjacent_tests += s.adjacent.len();
-    st.self_narrow_tests += s.apart.len();
     let found = out.len();
-    let ids = &prep.ids;
-    let mut push = |p: u32, q: u32| {
-        let (pa, pb) = (ids[p as usize], ids[q as usize]);
-        out.push(Pair {
-            mesh_a: id,
-            polygon_a: pa.min(pb),
-            mesh_b: id,
-            polygon_b: pa.max(pb),
-        });
-    };
-    let t = Instant::now();
+    let mut push = |p, q| push_pair(out, id, &prep.ids, p, q);
     let mut quick = 0;
     for &[p, q] in &s.adjacent {
         let (p, q) = (p as usize, q as usize);
@@ -1051,6 +958,85 @@ pub fn self_pairs(
     }
     st.self_adjacent_quick += quick;
     st.self_adjacent_nanos += nanos_since(t);
+    st.self_found += out.len() - found;
+}
+
+/// Asks for the cache lines of `items[i]` (when there is one) ahead of its use: a hint.
+#[inline(always)]
+pub(super) fn prefetch_item<T>(items: &[T], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(x) = items.get(i) {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let at = std::ptr::from_ref(x).cast::<i8>();
+        // SAFETY: a prefetch is a hint (no access, no fault); both addresses lie within
+        // the item (its first and last byte).
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(at);
+            _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<T>().max(1) - 1));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (items, i);
+}
+
+/// Pushes the found pair of positions `p`, `q` into `out` as the caller's polygons
+/// (`ids`) of mesh `id`.
+#[inline]
+fn push_pair(out: &mut Vec<Pair>, id: u32, ids: &[u32], p: u32, q: u32) {
+    let (pa, pb) = (ids[p as usize], ids[q as usize]);
+    out.push(Pair {
+        mesh_a: id,
+        polygon_a: pa.min(pb),
+        mesh_b: id,
+        polygon_b: pa.max(pb),
+    });
+}
+
+/// The self-collision pairs of mesh `id` (made ready in `prep`) among the given leaf
+/// pairs, appended to `out` (caller's polygon numbering, `polygon_a < polygon_b`, any
+/// order); counts and times added to `st`.
+#[allow(clippy::too_many_arguments)]
+pub fn self_pairs(
+    id: u32,
+    m: &Mesh,
+    prep: &SelfPrep,
+    h: f64,
+    leaf_pairs: &[(u32, u32)],
+    s: &mut SelfScratch,
+    out: &mut Vec<Pair>,
+    st: &mut AllStats,
+) {
+    let t = Instant::now();
+    s.apart.clear();
+    let k = m.vertices_per_polygon();
+    let exact = h == 0.0;
+    let (mut shared, mut culled) = (0, 0);
+    for &(i, j) in leaf_pairs {
+        // Proven patches meet only where they share: their neighbours need no decision.
+        let (sh, c) = prep.box_pairs(
+            i as usize,
+            j as usize,
+            exact,
+            &mut s.subs,
+            |a, b| prep.together(a, b),
+            &mut s.apart,
+        );
+        shared += sh;
+        culled += c;
+    }
+    st.self_box_nanos += nanos_since(t);
+    prep.apart_left
+        .fetch_add(s.apart.len(), std::sync::atomic::Ordering::Relaxed);
+    prep.diag_dropped
+        .fetch_add(culled, std::sync::atomic::Ordering::Relaxed);
+    // Every pair sharing a vertex counted here as decided by a fan: the neighbour tasks'
+    // tests are taken off once all are done ([`AllStats::self_adjacent_fans`]).
+    st.self_box_pairs += s.apart.len() + shared + culled;
+    st.self_box_culled += culled;
+    st.self_adjacent_fans += shared;
+    st.self_narrow_tests += s.apart.len();
+    let found = out.len();
+    let mut push = |p, q| push_pair(out, id, &prep.ids, p, q);
     let t = Instant::now();
     s.stamp += 1;
     let stamp = s.stamp;

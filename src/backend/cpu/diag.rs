@@ -1,7 +1,7 @@
 //! Polygons' bounds along six diagonal directions ([`Diag`]): with their boxes an 18-DOP,
 //! tighter than the box alone around an oblique triangle. At epsilon 0 a self-colliding
 //! triangle mesh's box pairs apart along a diagonal are dropped before any test
-//! ([`super::lanes::Lanes::pairs_16`], [`super::lanes::Lanes::split_16`]), and so are its
+//! ([`super::lanes::Lanes::pairs_16`]), and so are its
 //! sub-leaf pairs so apart.
 
 use super::lanes::{LANES, PAD};

@@ -22,23 +22,6 @@ pub(crate) struct Lanes {
     hi: [Vec<f32>; 3],
 }
 
-/// What [`Lanes::split_16`] needs to split a sub-leaf pair's box pairs by shared vertices:
-/// per polygon of the range (sixteen entries from its start, padding included), its
-/// vertex indices corner by corner (`corners[c]`, the first `k` used) and its proven fans
-/// (bit `c`: corner `c`'s); per candidate, its vertex indices (the first `k`).
-pub(crate) struct Near16<'a> {
-    pub k: usize,
-    pub corners: [&'a [u32]; 4],
-    pub fans: &'a [u8],
-    pub cand: &'a [[u32; 4]],
-    /// The two sub-leaves lie in a patch proven free of self-intersection: pairs sharing a
-    /// vertex are dropped uncounted.
-    pub proven: bool,
-    /// The polygons' diagonal bounds (numbered as the lanes), at epsilon 0: box pairs
-    /// apart along a diagonal are dropped, counted.
-    pub diag: Option<&'a Diag>,
-}
-
 impl Lanes {
     /// Number of boxes (padding not counted).
     #[inline]
@@ -238,12 +221,16 @@ impl Lanes {
     }
 
     /// [`Lanes::each_pair_16`]'s pairs for at most sixteen candidates (a sub-leaf),
-    /// appended to `out` as `[range.start + i, c0 + c]`, in the same order. Where the CPU
-    /// has AVX-512F, without a call or a branch per pair: each candidate meeting a box has
-    /// its sixteen answers compressed into pairs in registers and stored whole (the stores
-    /// past the new end land in capacity reserved first). The pairs of two sub-leaves that
-    /// share no vertex all go to one list (the exact test), so no per-pair decision is left
-    /// for a call to make.
+    /// appended to `out` as `[range.start + i, c0 + c]`, in the same order, less those
+    /// `excl` names (bit `i` of `excl[c]`: box `range.start + i` with candidate `c`; one
+    /// entry per candidate) and, with `diag`, those apart along a diagonal (counted: the
+    /// result). Where the CPU has AVX-512F, without a call or a branch per pair: each
+    /// candidate meeting a box has its sixteen answers compressed into pairs in registers
+    /// and stored whole (the stores past the new end land in capacity reserved first).
+    /// A self-colliding mesh's pairs sharing a vertex are left out this way (the mesh's
+    /// topology says which; see `query::neighbours`): all that is listed goes to one list
+    /// (the exact test), so no per-pair decision is left for a call to make.
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     pub fn pairs_16(
         &self,
@@ -252,11 +239,13 @@ impl Lanes {
         c0: u32,
         upper: bool,
         diag: Option<&Diag>,
+        excl: Option<&[u16]>,
         out: &mut Vec<[u32; 2]>,
     ) -> usize {
         assert!(range.end <= self.len() && range.len() <= 2 * LANES && cands.len() <= 16);
         assert!(!upper || cands.len() == range.len());
         assert!(diag.is_none_or(|d| d.len() == self.len()));
+        assert!(excl.is_none_or(|e| e.len() == cands.len()));
         if range.is_empty() {
             return 0;
         }
@@ -264,20 +253,40 @@ impl Lanes {
         if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
             let keep = (1u32 << range.len()) - 1;
             let run = self.run(range.start..range.start + 2 * LANES);
-            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds sixteen
-            // boxes (the padding included), `diag` as many entries as the lanes.
+            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds
+            // sixteen boxes (the padding included), `diag` as many entries as the lanes,
+            // `excl` one per candidate.
             return unsafe {
                 let first = range.start as u32;
-                let kernel = if diag.is_some() {
-                    pairs_16_avx512::<true>
-                } else {
-                    pairs_16_avx512::<false>
+                let kernel = match (diag.is_some(), excl.is_some()) {
+                    (true, true) => pairs_16_avx512::<true, true>,
+                    (true, false) => pairs_16_avx512::<true, false>,
+                    (false, true) => pairs_16_avx512::<false, true>,
+                    (false, false) => pairs_16_avx512::<false, false>,
                 };
-                kernel(&run, cands, keep, upper, first, c0, diag, out)
+                kernel(&run, cands, keep, upper, first, c0, diag, excl, out)
             };
         }
-        let mut culled = 0;
+        self.pairs_16_plain(range, cands, c0, upper, diag, excl, out)
+    }
+
+    /// [`Lanes::pairs_16`] pair by pair (any CPU).
+    #[allow(clippy::too_many_arguments)]
+    fn pairs_16_plain(
+        &self,
+        range: std::ops::Range<usize>,
+        cands: &[Aabb],
+        c0: u32,
+        upper: bool,
+        diag: Option<&Diag>,
+        excl: Option<&[u16]>,
+        out: &mut Vec<[u32; 2]>,
+    ) -> usize {
+        let (first, mut culled) = (range.start as u32, 0);
         self.each_pair_16(range, cands, upper, |i, c| {
+            if excl.is_some_and(|e| e[c as usize] >> (i - first) & 1 == 1) {
+                return;
+            }
             if diag.is_some_and(|d| !d.meets(i as usize, (c0 + c) as usize)) {
                 culled += 1;
             } else {
@@ -285,95 +294,6 @@ impl Lanes {
             }
         });
         culled
-    }
-
-    /// [`Lanes::pairs_16`] for two sub-leaves that may share vertices, the pairs split as
-    /// [`Near16`] says: those sharing no vertex index appended to `apart`; those sharing
-    /// one, unless `near.proven`, counted (the result) where a shared corner of the
-    /// range's polygon has a proven fan, else appended to `adjacent`. In AVX-512 where the
-    /// CPU has it (the vertex indices of sixteen polygons compared in one register), else
-    /// pair by pair: the same lists in the same order.
-    #[allow(clippy::too_many_arguments)]
-    #[inline]
-    pub fn split_16(
-        &self,
-        range: std::ops::Range<usize>,
-        cands: &[Aabb],
-        c0: u32,
-        upper: bool,
-        near: &Near16<'_>,
-        apart: &mut Vec<[u32; 2]>,
-        adjacent: &mut Vec<[u32; 2]>,
-    ) -> (usize, usize) {
-        assert!(range.end <= self.len() && range.len() <= 2 * LANES);
-        assert!(!upper || cands.len() == range.len());
-        assert!(cands.len() <= 16 && near.cand.len() == cands.len());
-        assert!(near.k == 3 || near.k == 4);
-        assert!(
-            near.fans.len() >= 2 * LANES
-                && near.corners[..near.k].iter().all(|c| c.len() >= 2 * LANES)
-        );
-        assert!(near.diag.is_none_or(|d| d.len() == self.len()));
-        if range.is_empty() {
-            return (0, 0);
-        }
-        #[cfg(target_arch = "x86_64")]
-        if std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("popcnt") {
-            let keep = (1u32 << range.len()) - 1;
-            let run = self.run(range.start..range.start + 2 * LANES);
-            let first = range.start as u32;
-            // SAFETY: the CPU supports AVX-512F and POPCNT, checked just above; `run` holds
-            // sixteen boxes, `near` sixteen polygons' corners and fans (asserted above).
-            return unsafe {
-                let kernel = match (near.k, near.diag.is_some()) {
-                    (3, true) => split_16_avx512::<3, true>,
-                    (3, false) => split_16_avx512::<3, false>,
-                    (_, true) => split_16_avx512::<4, true>,
-                    (_, false) => split_16_avx512::<4, false>,
-                };
-                kernel(&run, cands, keep, upper, first, c0, near, apart, adjacent)
-            };
-        }
-        self.split_16_plain(range, cands, c0, upper, near, apart, adjacent)
-    }
-
-    /// [`Lanes::split_16`] pair by pair (any CPU).
-    #[allow(clippy::too_many_arguments)]
-    fn split_16_plain(
-        &self,
-        range: std::ops::Range<usize>,
-        cands: &[Aabb],
-        c0: u32,
-        upper: bool,
-        near: &Near16<'_>,
-        apart: &mut Vec<[u32; 2]>,
-        adjacent: &mut Vec<[u32; 2]>,
-    ) -> (usize, usize) {
-        let (first, k, mut fans, mut culled) = (range.start as u32, near.k, 0, 0);
-        self.each_pair_16(range, cands, upper, |i, c| {
-            if near
-                .diag
-                .is_some_and(|d| !d.meets(i as usize, (c0 + c) as usize))
-            {
-                culled += 1;
-                return;
-            }
-            let (lane, v) = ((i - first) as usize, &near.cand[c as usize]);
-            let mut shared = 0u8;
-            for (corner, at) in near.corners[..k].iter().enumerate() {
-                shared |= u8::from(v[..k].contains(&at[lane])) << corner;
-            }
-            if shared == 0 {
-                apart.push([i, c0 + c]);
-            } else if !near.proven {
-                if shared & near.fans[lane] != 0 {
-                    fans += 1;
-                } else {
-                    adjacent.push([i, c0 + c]);
-                }
-            }
-        });
-        (fans, culled)
     }
 
     /// For each of `cands` (at most 16), the boxes of the 16 from `start` (padding
@@ -623,14 +543,25 @@ fn lanes_kept(keep: u32, upper: bool, c: usize) -> u16 {
 }
 
 /// Each candidate's lanes that meet it ([`Boxes16::meet`], within [`lanes_kept`]), and
-/// the candidates that meet any as bits.
+/// the candidates that meet any as bits; `EXCL`: less the lanes `excl[c]` names (an entry
+/// per candidate; not read otherwise).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 #[inline]
-fn meets16(boxes: &Boxes16, cands: &[Aabb], keep: u32, upper: bool) -> ([u16; 16], u32) {
+fn meets16<const EXCL: bool>(
+    boxes: &Boxes16,
+    cands: &[Aabb],
+    keep: u32,
+    upper: bool,
+    excl: &[u16],
+) -> ([u16; 16], u32) {
     let (mut masks, mut hit) = ([0u16; 16], 0);
     for (c, (b, m)) in cands.iter().zip(&mut masks).enumerate() {
-        *m = boxes.meet(b, lanes_kept(keep, upper, c));
+        let mut kept = lanes_kept(keep, upper, c);
+        if EXCL {
+            kept &= !excl[c];
+        }
+        *m = boxes.meet(b, kept);
         hit |= u32::from(*m != 0) << c;
     }
     (masks, hit)
@@ -680,15 +611,16 @@ unsafe fn append16(
 }
 
 /// [`Lanes::pairs_16`] in AVX-512: per candidate, the meeting lanes' pairs appended
-/// ([`append16`]). `DIAG`: `diag` is given (compiled apart, so that the kernel without
-/// diagonal bounds keeps no trace of their code or registers).
+/// ([`append16`]). `DIAG`: `diag` is given; `EXCL`: `excl` is (each compiled apart, so
+/// that the kernel without them keeps no trace of their code or registers).
 ///
 /// # Safety
-/// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes.
+/// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes; `excl`, when
+/// given, an entry per candidate.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,popcnt")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn pairs_16_avx512<const DIAG: bool>(
+unsafe fn pairs_16_avx512<const DIAG: bool, const EXCL: bool>(
     run: &[&[f32]; 6],
     cands: &[Aabb],
     keep: u32,
@@ -696,6 +628,7 @@ unsafe fn pairs_16_avx512<const DIAG: bool>(
     first: u32,
     c0: u32,
     diag: Option<&Diag>,
+    excl: Option<&[u16]>,
     out: &mut Vec<[u32; 2]>,
 ) -> usize {
     // SAFETY: the caller's promise.
@@ -703,7 +636,7 @@ unsafe fn pairs_16_avx512<const DIAG: bool>(
     let mut culled = 0;
     // Every candidate's boxes first, then the candidates that meet one (a fifth of them
     // between two sub-leaves of a crumpled cloth): the stores cost more than the tests.
-    let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
+    let (masks, mut hit) = meets16::<EXCL>(&boxes, cands, keep, upper, excl.unwrap_or(&[]));
     // The diagonal bounds read only where some box meets.
     // SAFETY: as many entries as the lanes, padded (the caller's promise).
     let diag = diag
@@ -730,145 +663,34 @@ unsafe fn pairs_16_avx512<const DIAG: bool>(
     culled
 }
 
-/// [`Lanes::split_16`] in AVX-512 for polygons of `K` corners: the boxes as in
-/// [`pairs_16_avx512`], then each candidate's `K` vertex indices against the sixteen
-/// polygons' corners (`K * K` compares, only in lanes whose boxes meet), the pairs
-/// appended as there; `DIAG` as there (`near.diag` given).
-///
-/// # Safety
-/// The CPU must support AVX-512F and POPCNT; `run` holds sixteen boxes, `near.fans` and
-/// `near.corners[..K]` sixteen entries each.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,popcnt")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn split_16_avx512<const K: usize, const DIAG: bool>(
-    run: &[&[f32]; 6],
-    cands: &[Aabb],
-    keep: u32,
-    upper: bool,
-    first: u32,
-    c0: u32,
-    near: &Near16<'_>,
-    apart: &mut Vec<[u32; 2]>,
-    adjacent: &mut Vec<[u32; 2]>,
-) -> (usize, usize) {
-    use std::arch::x86_64::*;
-    // SAFETY: the caller's promise.
-    let boxes = unsafe { Boxes16::load(run) };
-    let mut culled = 0;
-    let mut corner = [_mm512_setzero_si512(); K];
-    for (c, at) in corner.iter_mut().enumerate() {
-        // SAFETY: sixteen `u32` (the caller's promise), no alignment needed.
-        *at = unsafe { _mm512_loadu_si512(near.corners[c].as_ptr().cast()) };
-    }
-    // Lanes whose corner `c` has a proven fan.
-    // SAFETY: sixteen bytes (the caller's promise), no alignment needed.
-    let fan_bytes = unsafe { _mm_loadu_si128(near.fans.as_ptr().cast()) };
-    let fans = _mm512_cvtepu8_epi32(fan_bytes);
-    let mut proven_fan = [0u16; K];
-    for (c, f) in proven_fan.iter_mut().enumerate().take(3) {
-        *f = _mm512_test_epi32_mask(fans, _mm512_set1_epi32(1 << c));
-    }
-    // Room for sixteen pairs per candidate and one whole store past the last, each list.
-    apart.reserve(16 * cands.len() + 8);
-    adjacent.reserve(16 * cands.len() + 8);
-    let (mut len, mut adj_len) = (apart.len(), adjacent.len());
-    let (base, adj_base) = (apart.as_mut_ptr(), adjacent.as_mut_ptr());
-    let mut counted = 0;
-    let (masks, mut hit) = meets16(&boxes, cands, keep, upper);
-    // The diagonal bounds read only where some box meets.
-    // SAFETY: as many entries as the lanes, padded (the caller's promise).
-    let diag = near
-        .diag
-        .filter(|_| DIAG && hit != 0)
-        .map(|d| unsafe { DiagRun::new(d, first as usize, c0 as usize, cands.len()) });
-    while hit != 0 {
-        let c = hit.trailing_zeros() as usize;
-        hit &= hit - 1;
-        let (m, v) = (masks[c], &near.cand[c]);
-        // Per corner of the lanes' polygons: held by the candidate too.
-        let (mut shared, mut by_fan) = (0u16, 0u16);
-        for c in 0..K {
-            let mut s = 0u16;
-            for &vj in &v[..K] {
-                s |= _mm512_mask_cmpeq_epi32_mask(m, corner[c], _mm512_set1_epi32(vj as i32));
-            }
-            shared |= s;
-            by_fan |= s & proven_fan[c];
-        }
-        let mut apart_m = m & !shared;
-        // Only pairs sharing no vertex can be apart along a diagonal (the others share a
-        // point).
-        if let Some(d) = diag.as_ref().filter(|_| apart_m != 0) {
-            // SAFETY: AVX-512F (the caller's promise); `c` is a candidate.
-            let kept = unsafe { d.meet(c, apart_m) };
-            culled += (apart_m & !kept).count_ones() as usize;
-            apart_m = kept;
-        }
-        let pairs = pair_words(first, c0 + c as u32);
-        // SAFETY: at most sixteen pairs appended to each list per candidate so far: room
-        // reserved.
-        unsafe { append16(base, &mut len, apart_m, &pairs) };
-        if near.proven {
-            continue;
-        }
-        counted += by_fan.count_ones() as usize;
-        let left = shared & !by_fan;
-        if left != 0 {
-            // SAFETY: as above.
-            unsafe { append16(adj_base, &mut adj_len, left, &pairs) };
-        }
-    }
-    // SAFETY: the pairs up to `len` and `adj_len` were all written above, within capacity.
-    unsafe {
-        apart.set_len(len);
-        adjacent.set_len(adj_len);
-    }
-    (counted, culled)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The vertex indices of `n` polygons corner by corner, padded with 16 `u32::MAX` (as
-    /// [`Near16::corners`] reads them).
-    fn corner_columns(verts: &[[u32; 4]], n: usize) -> Vec<Vec<u32>> {
-        (0..4)
-            .map(|c| {
-                (0..n + 16)
-                    .map(|x| verts.get(x).map_or(u32::MAX, |v| v[c]))
-                    .collect()
+    /// Per candidate of `others`, the lanes of `range` whose polygon shares a vertex index
+    /// with it (the first `k` of `verts` count): what a self-colliding mesh's topology gives
+    /// [`Lanes::pairs_16`] to leave out.
+    fn sharing(
+        verts: &[[u32; 4]],
+        k: usize,
+        range: std::ops::Range<usize>,
+        others: std::ops::Range<usize>,
+    ) -> Vec<u16> {
+        others
+            .map(|q| {
+                range.clone().enumerate().fold(0u16, |m, (i, p)| {
+                    let shares = verts[p][..k].iter().any(|v| verts[q][..k].contains(v));
+                    m | u16::from(shares) << i
+                })
             })
             .collect()
     }
 
-    /// The [`Near16`] of the range starting at `start` (its columns and fans read from
-    /// there) against the candidates `cand`.
-    fn near_at<'a>(
-        k: usize,
-        cols: &'a [Vec<u32>],
-        fans: &'a [u8],
-        start: usize,
-        cand: &'a [[u32; 4]],
-        proven: bool,
-        diag: Option<&'a Diag>,
-    ) -> Near16<'a> {
-        Near16 {
-            k,
-            corners: [0, 1, 2, 3].map(|c| &cols[c][start..]),
-            fans: &fans[start..],
-            cand,
-            proven,
-            diag,
-        }
-    }
-
-    /// [`Lanes::pairs_16`] and [`Lanes::split_16`] with diagonal bounds against a brute
-    /// force: the pairs of the bounds-free lists, less those sharing no vertex whose
-    /// triangles lie apart along a diagonal by more than 10^-3 (computed here in `f64`
-    /// from the corners; the corners are hundredths, so a pair's gap is either at most
-    /// rounding or at least 10^-2), counted; AVX-512 and one by one alike.
+    /// [`Lanes::pairs_16`] with diagonal bounds against a brute force: the pairs of the
+    /// bounds-free lists, less those whose triangles lie apart along a diagonal by more
+    /// than 10^-3 (computed here in `f64` from the corners; the corners are hundredths, so
+    /// a pair's gap is either at most rounding or at least 10^-2), counted; with the pairs
+    /// sharing a vertex left out too; AVX-512 and one by one alike.
     #[test]
     fn diagonal_bounds_drop_pairs_apart_along_a_diagonal() {
         let mut rng = crate::geom::test_rng::Rng(23);
@@ -929,8 +751,6 @@ mod tests {
             .iter()
             .map(|c| [c[0], c[1], c[2], u32::MAX])
             .collect();
-        let fan_bits: Vec<u8> = (0..n + 16).map(|_| rng.below(8) as u8).collect();
-        let cols = corner_columns(&verts, n);
         let mut checked = [0usize; 2];
         for diag in super::super::diag::all_diags(&points, &corners) {
             for (range, others) in [
@@ -941,8 +761,7 @@ mod tests {
                 (5..6, 0..16),
             ] {
                 let upper = range == others;
-                let (mut want_all, mut want_apart, mut want_adj, mut want_fans, mut want_cut) =
-                    (Vec::new(), Vec::new(), Vec::new(), 0, 0);
+                let (mut want_all, mut want_apart, mut want_cut) = (Vec::new(), Vec::new(), 0);
                 for (c, q) in others.clone().enumerate() {
                     for p in range.clone() {
                         if (upper && p <= range.start + c) || !boxes[p].overlaps(&boxes[q], 0.0) {
@@ -962,10 +781,6 @@ mod tests {
                         want_all.push(pair);
                         if shared == 0 {
                             want_apart.push(pair);
-                        } else if shared & fan_bits[p] != 0 {
-                            want_fans += 1;
-                        } else {
-                            want_adj.push(pair);
                         }
                     }
                 }
@@ -973,42 +788,29 @@ mod tests {
                 checked[1] += want_all.len();
                 let cands = &boxes[others.clone()];
                 let mut all = Vec::new();
-                let cut = lanes.pairs_16(
-                    range.clone(),
-                    cands,
-                    others.start as u32,
-                    upper,
-                    Some(&diag),
-                    &mut all,
-                );
+                let c0 = others.start as u32;
+                let cut =
+                    lanes.pairs_16(range.clone(), cands, c0, upper, Some(&diag), None, &mut all);
                 assert_eq!(
                     (all, cut),
                     (want_all, want_cut),
                     "pairs_16 {range:?} {others:?}"
                 );
-                let cand = &verts[others.clone()];
-                let near = near_at(3, &cols, &fan_bits, range.start, cand, false, Some(&diag));
-                let want = (want_apart, want_adj, (want_fans, want_cut));
+                // Pairs sharing a vertex left out: they are never apart along a diagonal,
+                // so the same count is dropped.
+                let excl = sharing(&verts, 3, range.clone(), others.clone());
+                let want = (want_apart, want_cut);
                 for plain in [false, true] {
-                    let (mut apart, mut adj) = (Vec::new(), Vec::new());
-                    let c0 = others.start as u32;
+                    let (d, e, mut apart) = (Some(&diag), Some(&excl[..]), Vec::new());
                     let got = if plain {
-                        lanes.split_16_plain(
-                            range.clone(),
-                            cands,
-                            c0,
-                            upper,
-                            &near,
-                            &mut apart,
-                            &mut adj,
-                        )
+                        lanes.pairs_16_plain(range.clone(), cands, c0, upper, d, e, &mut apart)
                     } else {
-                        lanes.split_16(range.clone(), cands, c0, upper, &near, &mut apart, &mut adj)
+                        lanes.pairs_16(range.clone(), cands, c0, upper, d, e, &mut apart)
                     };
                     assert_eq!(
-                        (apart, adj, got),
+                        (apart, got),
                         want,
-                        "split_16 {range:?} {others:?} plain {plain}"
+                        "pairs_16 {range:?} {others:?} leaving out, plain {plain}"
                     );
                 }
             }
@@ -1109,6 +911,7 @@ mod tests {
                     100 + 16 * cs.0 as u32,
                     false,
                     None,
+                    None,
                     &mut list,
                 );
             }
@@ -1138,6 +941,7 @@ mod tests {
                 own,
                 range.start as u32,
                 true,
+                None,
                 None,
                 &mut list,
             );
@@ -1204,13 +1008,13 @@ mod tests {
         assert_eq!(lanes.get(3), Aabb::EMPTY);
     }
 
-    /// `split_16` (AVX-512 here where the CPU has it) and its portable path against a
-    /// brute force: every box pair by `Aabb::overlaps`, every shared corner by comparing
-    /// vertex indices, on boxes that often meet and vertex indices from a small pool (so
-    /// that pairs share one, two or three corners), triangles and quads, with and without
-    /// `proven`.
+    /// [`Lanes::pairs_16`] leaving out the pairs sharing a vertex (AVX-512 here where the
+    /// CPU has it) and its portable path against a brute force: every box pair by
+    /// `Aabb::overlaps`, every shared corner by comparing vertex indices, on boxes that
+    /// often meet and vertex indices from a small pool (so that pairs share one, two or
+    /// three corners), triangles and quads, a range against another and against itself.
     #[test]
-    fn split_16_matches_a_brute_force_split() {
+    fn pairs_16_leaves_out_what_it_is_told() {
         let mut rng = crate::geom::test_rng::Rng(11);
         let n = 53;
         let boxes: Vec<Aabb> = (0..n)
@@ -1228,7 +1032,7 @@ mod tests {
         for (i, b) in boxes.iter().enumerate() {
             lanes.set(i, b);
         }
-        let (mut counts, mut totals) = ([0usize; 3], 0);
+        let (mut counts, mut calls) = ([0usize; 2], 0);
         for k in [3, 4] {
             let verts: Vec<[u32; 4]> = (0..n)
                 .map(|_| {
@@ -1239,8 +1043,6 @@ mod tests {
                     v
                 })
                 .collect();
-            let fan_bits: Vec<u8> = (0..n + 16).map(|_| rng.below(8) as u8).collect();
-            let corners = corner_columns(&verts, n);
             for (range, others) in [
                 (0..16, 16..32),
                 (3..19, 3..19),
@@ -1249,76 +1051,46 @@ mod tests {
                 (5..6, 0..16),
                 (44..53, 44..53),
             ] {
-                for proven in [false, true] {
-                    let upper = range == others;
-                    let cand = &verts[others.clone()];
-                    let near = near_at(k, &corners, &fan_bits, range.start, cand, proven, None);
-                    let (mut want_apart, mut want_adj, mut want_fans) = (Vec::new(), Vec::new(), 0);
-                    for (c, q) in others.clone().enumerate() {
-                        for p in range.clone() {
-                            if (upper && p <= range.start + c) || !boxes[p].overlaps(&boxes[q], 0.0)
-                            {
-                                continue;
-                            }
-                            let shared = (0..k)
-                                .filter(|&ci| verts[q][..k].contains(&verts[p][ci]))
-                                .fold(0u8, |b, ci| b | 1 << ci);
-                            let pair = [p as u32, 1000 + c as u32];
-                            if shared == 0 {
-                                want_apart.push(pair);
-                            } else if !proven {
-                                if shared & fan_bits[p] != 0 {
-                                    want_fans += 1;
-                                } else {
-                                    want_adj.push(pair);
-                                }
-                            }
+                let upper = range == others;
+                let (mut want, mut left_out) = (Vec::new(), 0);
+                for (c, q) in others.clone().enumerate() {
+                    for p in range.clone() {
+                        if (upper && p <= range.start + c) || !boxes[p].overlaps(&boxes[q], 0.0) {
+                            continue;
+                        }
+                        if verts[p][..k].iter().any(|v| verts[q][..k].contains(v)) {
+                            left_out += 1;
+                        } else {
+                            want.push([p as u32, 1000 + c as u32]);
                         }
                     }
-                    let cands = &boxes[others.clone()];
-                    let want = (want_apart, want_adj, (want_fans, 0));
-                    let (mut apart, mut adj) = (vec![[9, 9]], Vec::new());
-                    let fans = lanes.split_16(
-                        range.clone(),
-                        cands,
-                        1000,
-                        upper,
-                        &near,
-                        &mut apart,
-                        &mut adj,
-                    );
-                    assert_eq!(apart.remove(0), [9, 9]);
-                    assert_eq!(
-                        (apart, adj, fans),
-                        want,
-                        "{range:?} {others:?} k {k} proven {proven}"
-                    );
-                    let (mut apart, mut adj) = (Vec::new(), Vec::new());
-                    let fans = lanes.split_16_plain(
-                        range.clone(),
-                        cands,
-                        1000,
-                        upper,
-                        &near,
-                        &mut apart,
-                        &mut adj,
-                    );
-                    assert_eq!(
-                        (apart, adj, fans),
-                        want,
-                        "{range:?} {others:?} k {k} proven {proven}, portable"
-                    );
-                    counts[0] += want.0.len();
-                    counts[1] += want.1.len();
-                    counts[2] += want.2 .0;
-                    totals += 1;
                 }
+                let cands = &boxes[others.clone()];
+                let excl = sharing(&verts, k, range.clone(), others.clone());
+                for plain in [false, true] {
+                    let mut got = vec![[9, 9]];
+                    let e = Some(&excl[..]);
+                    let cut = if plain {
+                        lanes.pairs_16_plain(range.clone(), cands, 1000, upper, None, e, &mut got)
+                    } else {
+                        lanes.pairs_16(range.clone(), cands, 1000, upper, None, e, &mut got)
+                    };
+                    assert_eq!(got.remove(0), [9, 9]);
+                    assert_eq!(
+                        (got, cut),
+                        (want.clone(), 0),
+                        "{range:?} {others:?} k {k} plain {plain}"
+                    );
+                }
+                counts[0] += want.len();
+                counts[1] += left_out;
+                calls += 1;
             }
         }
-        // Every kind of outcome was met, many times.
+        // Both outcomes were met, many times.
         assert!(
             counts.iter().all(|&c| c > 20),
-            "{counts:?} over {totals} calls"
+            "{counts:?} over {calls} calls"
         );
     }
 }
