@@ -197,6 +197,24 @@ pub fn widen(p: &[f32; 3]) -> P3 {
     [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])]
 }
 
+/// Asks for the cache lines of `items[i]` (when there is one) ahead of its use: a hint.
+#[inline(always)]
+pub(crate) fn prefetch_item<T>(items: &[T], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(x) = items.get(i) {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let at = std::ptr::from_ref(x).cast::<i8>();
+        // SAFETY: a prefetch is a hint (no access, no fault); both addresses lie within
+        // the item (its first and last byte).
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(at);
+            _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<T>().max(1) - 1));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (items, i);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

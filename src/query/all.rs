@@ -927,8 +927,8 @@ pub fn self_neighbours(
         }
         if let Some(&w) = open.get(x + AHEAD) {
             for &p in near.polys(w as usize) {
-                prefetch_item(&prep.verts, p as usize);
-                prefetch_item(&prep.tris, p as usize);
+                crate::geom::prefetch_item(&prep.verts, p as usize);
+                crate::geom::prefetch_item(&prep.tris, p as usize);
             }
         }
         near.pairs_at(v, &prep.verts, k, &prep.fan_ok, together, &mut s.adjacent);
@@ -959,24 +959,6 @@ pub fn self_neighbours(
     st.self_adjacent_quick += quick;
     st.self_adjacent_nanos += nanos_since(t);
     st.self_found += out.len() - found;
-}
-
-/// Asks for the cache lines of `items[i]` (when there is one) ahead of its use: a hint.
-#[inline(always)]
-pub(super) fn prefetch_item<T>(items: &[T], i: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(x) = items.get(i) {
-        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let at = std::ptr::from_ref(x).cast::<i8>();
-        // SAFETY: a prefetch is a hint (no access, no fault); both addresses lie within
-        // the item (its first and last byte).
-        unsafe {
-            _mm_prefetch::<_MM_HINT_T0>(at);
-            _mm_prefetch::<_MM_HINT_T0>(at.add(std::mem::size_of::<T>().max(1) - 1));
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (items, i);
 }
 
 /// Pushes the found pair of positions `p`, `q` into `out` as the caller's polygons

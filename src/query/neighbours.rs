@@ -156,7 +156,7 @@ impl Neighbours {
     #[inline]
     pub fn prefetch_polys(&self, v: usize) {
         if let Some(&at) = self.start.get(v) {
-            super::all::prefetch_item(&self.polys, at as usize);
+            crate::geom::prefetch_item(&self.polys, at as usize);
         }
     }
 
