@@ -423,16 +423,6 @@ impl SelfPrep {
         use rayon::prelude::*;
         let n = m.polygon_count();
         let par = par && n >= PAR_MIN;
-        self.grown_leaves.clear();
-        self.grown_leaves
-            .extend(m.leaf_boxes().iter().map(|b| b.grown(h)));
-        self.found.clear();
-        self.sweep
-            .pairs(&self.grown_leaves, m.leaf_boxes(), &mut self.found);
-        self.leaf_pairs.clear();
-        self.leaf_pairs
-            .extend(self.found.iter().copied().filter(|&(i, j)| i <= j));
-        self.leaf_pairs.sort_unstable();
         // The layout (pieces, sub-leaf split, boundary loops; the vertex indices and fans)
         // is made at the first query of this mesh and kept (a mesh's topology never
         // changes, and its id is never reused): later queries refit the sub-leaves' boxes
@@ -455,28 +445,51 @@ impl SelfPrep {
         if new_layout {
             self.make_layout(m, key, par);
         }
-        // Per position of `order`: the triangle's corners and turn mask.
-        self.tris.clear();
-        self.turns.clear();
+        // The leaf pairs (a sweep over the leaf boxes, on one thread)...
+        let mut leaf_pairs = || {
+            self.grown_leaves.clear();
+            self.grown_leaves
+                .extend(m.leaf_boxes().iter().map(|b| b.grown(h)));
+            self.found.clear();
+            self.sweep
+                .pairs(&self.grown_leaves, m.leaf_boxes(), &mut self.found);
+            self.leaf_pairs.clear();
+            self.leaf_pairs
+                .extend(self.found.iter().copied().filter(|&(i, j)| i <= j));
+            self.leaf_pairs.sort_unstable();
+        };
+        // ... and per position of `order`, the triangle's corners and turn mask.
+        let mut tris_turns = || {
+            self.tris.clear();
+            self.turns.clear();
+            if par {
+                if triangles && float {
+                    self.tris
+                        .par_extend(self.corner_slots.par_iter().map(float_tri));
+                } else if triangles {
+                    self.tris.par_extend(self.order.par_iter().map(tri));
+                }
+                if certify {
+                    self.turns.par_extend(self.tris.par_iter().map(turn_mask));
+                }
+            } else {
+                if triangles && float {
+                    self.tris.extend(self.corner_slots.iter().map(float_tri));
+                } else if triangles {
+                    self.tris.extend(self.order.iter().map(tri));
+                }
+                if certify {
+                    self.turns.extend(self.tris.iter().map(turn_mask));
+                }
+            }
+        };
+        // Side by side with workers: the sweep alone would leave the other cores idle
+        // (and asleep: waking one costs tens of microseconds).
         if par {
-            if triangles && float {
-                self.tris
-                    .par_extend(self.corner_slots.par_iter().map(float_tri));
-            } else if triangles {
-                self.tris.par_extend(self.order.par_iter().map(tri));
-            }
-            if certify {
-                self.turns.par_extend(self.tris.par_iter().map(turn_mask));
-            }
+            rayon::join(leaf_pairs, tris_turns);
         } else {
-            if triangles && float {
-                self.tris.extend(self.corner_slots.iter().map(float_tri));
-            } else if triangles {
-                self.tris.extend(self.order.iter().map(tri));
-            }
-            if certify {
-                self.turns.extend(self.tris.iter().map(turn_mask));
-            }
+            leaf_pairs();
+            tris_turns();
         }
         // The fans' verdicts, then the vertices around which neighbours are left to test.
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
