@@ -163,7 +163,13 @@ impl Fans {
         let one = |i: usize| self.fan_proven(i, tris, turns);
         scratch.clear();
         if par {
-            scratch.par_extend((0..self.vertex.len()).into_par_iter().map(one));
+            // Jobs of 1,024 fans: a worker done early takes over a slower one's.
+            scratch.par_extend(
+                (0..self.vertex.len())
+                    .into_par_iter()
+                    .with_max_len(1024)
+                    .map(one),
+            );
         } else {
             scratch.extend((0..self.vertex.len()).map(one));
         }

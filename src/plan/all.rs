@@ -41,8 +41,9 @@ enum Task {
 /// big enough that a task is worth handing out.
 const LEAF_PAIRS_PER_TASK: usize = 8;
 
-/// Open vertices per task (their neighbour pairs): a few hundred pairs to decide.
-const OPEN_VERTICES_PER_TASK: usize = 256;
+/// Open vertices per task (their neighbour pairs): a few dozen pairs to decide, so that
+/// the last tasks of a query are short.
+const OPEN_VERTICES_PER_TASK: usize = 64;
 
 /// What the tasks of one query read.
 struct Work<'a, 'm> {
@@ -363,7 +364,7 @@ impl Planner {
         match &self.workers.pool {
             Some(pool) => pool.install(|| {
                 use rayon::prelude::*;
-                tasks.par_iter().for_each(run)
+                tasks.par_iter().with_max_len(1).for_each(run)
             }),
             None => tasks.iter().for_each(run),
         }

@@ -92,6 +92,13 @@ const _: () = assert!(SUB_LEAF <= SUB_MAX);
 /// Polygons from which [`SelfPrep::make`] shares a mesh's preparation between workers.
 const PAR_MIN: usize = 4096;
 
+/// Polygons, and leaves, per job of the preparation's parallel loops: small enough that a
+/// worker done early takes over the rest of a slower one's share (a core shared with other
+/// work: left to rayon's own split, one worker of two was seen working alone for half of a
+/// loop), big enough that a job's hand-over costs nothing next to its work.
+const PAR_POLYGONS: usize = 2048;
+const PAR_LEAVES: usize = 8;
+
 /// The projections in which all triangles `ids` turn the same way ([`turn_mask`] bits
 /// common to all; 0 as soon as there is none).
 fn common_turns(ids: &mut dyn Iterator<Item = usize>, turns: &[u8]) -> u8 {
@@ -116,6 +123,7 @@ fn map_checked<I: Send, O: Send>(
     if par {
         items
             .into_par_iter()
+            .with_max_len(PAR_LEAVES)
             .map_init(PatchCheck::default, f)
             .collect()
     } else {
@@ -464,13 +472,23 @@ impl SelfPrep {
             self.turns.clear();
             if par {
                 if triangles && float {
-                    self.tris
-                        .par_extend(self.corner_slots.par_iter().map(float_tri));
+                    self.tris.par_extend(
+                        self.corner_slots
+                            .par_iter()
+                            .with_max_len(PAR_POLYGONS)
+                            .map(float_tri),
+                    );
                 } else if triangles {
-                    self.tris.par_extend(self.order.par_iter().map(tri));
+                    self.tris
+                        .par_extend(self.order.par_iter().with_max_len(PAR_POLYGONS).map(tri));
                 }
                 if certify {
-                    self.turns.par_extend(self.tris.par_iter().map(turn_mask));
+                    self.turns.par_extend(
+                        self.tris
+                            .par_iter()
+                            .with_max_len(PAR_POLYGONS)
+                            .map(turn_mask),
+                    );
                 }
             } else {
                 if triangles && float {
@@ -543,15 +561,26 @@ impl SelfPrep {
             b
         };
         match (triangles, par) {
-            (true, true) if float => self
-                .boxes
-                .par_extend(self.corner_slots.par_iter().map(slot_box)),
+            (true, true) if float => self.boxes.par_extend(
+                self.corner_slots
+                    .par_iter()
+                    .with_max_len(PAR_POLYGONS)
+                    .map(slot_box),
+            ),
             (true, false) if float => self.boxes.extend(self.corner_slots.iter().map(slot_box)),
-            (true, true) => self.boxes.par_extend(self.tris.par_iter().map(corner_box)),
+            (true, true) => self.boxes.par_extend(
+                self.tris
+                    .par_iter()
+                    .with_max_len(PAR_POLYGONS)
+                    .map(corner_box),
+            ),
             (true, false) => self.boxes.extend(self.tris.iter().map(corner_box)),
-            (false, true) => self
-                .boxes
-                .par_extend(order.par_iter().map(|&p| m.poly_box(p as usize))),
+            (false, true) => self.boxes.par_extend(
+                order
+                    .par_iter()
+                    .with_max_len(PAR_POLYGONS)
+                    .map(|&p| m.poly_box(p as usize)),
+            ),
             (false, false) => self
                 .boxes
                 .extend(order.iter().map(|&p| m.poly_box(p as usize))),
@@ -566,8 +595,12 @@ impl SelfPrep {
         };
         self.sub_boxes.clear();
         if par {
-            self.sub_boxes
-                .par_extend(self.sub_start.par_windows(2).map(sub_box));
+            self.sub_boxes.par_extend(
+                self.sub_start
+                    .par_windows(2)
+                    .with_max_len(PAR_POLYGONS / 16)
+                    .map(sub_box),
+            );
         } else {
             self.sub_boxes
                 .extend(self.sub_start.windows(2).map(sub_box));

@@ -117,7 +117,12 @@ impl Diag {
         }
         let run = |(x, out): (usize, &mut [&mut [f32]; 12])| make(x * CHUNK, out);
         if par {
-            chunks.par_iter_mut().enumerate().for_each(run);
+            // One job a chunk: a worker done early takes over a slower one's.
+            chunks
+                .par_iter_mut()
+                .enumerate()
+                .with_max_len(1)
+                .for_each(run);
         } else {
             chunks.iter_mut().enumerate().for_each(run);
         }

@@ -74,6 +74,8 @@ impl Lanes {
             boxes
                 .par_chunks(CHUNK)
                 .zip(bounds.par_iter_mut())
+                // One job a chunk: a worker done early takes over a slower one's.
+                .with_max_len(1)
                 .for_each(fill);
         } else {
             boxes.chunks(CHUNK).zip(bounds.iter_mut()).for_each(fill);
