@@ -289,7 +289,8 @@ fn filters_skip_mesh_pairs_in_both_queries() {
 /// step of up to 0.6 of its mean edge length (folds onto neighbours, vertices pushed
 /// through the next triangle, crossings between neighbours on real connectivity): self
 /// pairs equal to brute force at epsilon 0 (thousands, hundreds of them between
-/// neighbours), within the band above it, the same for one and two threads.
+/// neighbours), within the band above it, the same for one and two threads, and the same
+/// with every other triangle turned over (no consistent orientation: no certificate).
 #[test]
 fn tangled_real_cloth_self_pairs_against_brute_force() {
     if !has_shared("meshes/sim/cloth-funnel") {
@@ -337,15 +338,27 @@ fn tangled_real_cloth_self_pairs_against_brute_force() {
         "{} pairs, {neighbours} between neighbours",
         exact.len()
     );
+    // The same cloth with every other triangle turned over: the same geometry, but its
+    // edges no longer consistently oriented (no twins), so no vertex fan or patch is
+    // proven and every pair sharing a vertex is listed from the topology and tested.
+    let mut flipped = cloth.clone();
+    for t in flipped.idx.chunks_mut(6) {
+        t.swap(1, 2);
+    }
     for eps in [0.0, 1e-3 * extent] {
         let mut answers = Vec::new();
-        for threads in [1, 2] {
+        for (threads, m) in [(1, &cloth), (2, &cloth), (1, &flipped), (2, &flipped)] {
             let mut s = scene(eps, threads);
-            let id = add(&mut s, &cloth);
+            let id = add(&mut s, m);
             s.set_self_collision(id, true).unwrap();
             answers.push(between(s.query_all().unwrap(), id, id));
+            let st = s.all_stats();
+            let certified = st.self_cert_fans + st.self_cert_patches;
+            assert_eq!(certified == 0, std::ptr::eq(m, &flipped), "{st:?}");
         }
         assert_eq!(answers[0], answers[1], "threads 1 and 2");
+        assert_eq!(answers[0], answers[2], "every other triangle turned over");
+        assert_eq!(answers[0], answers[3], "turned over, two threads");
         let got = &answers[0];
         if eps == 0.0 {
             assert_eq!(got, &exact);
