@@ -205,8 +205,9 @@ impl Planner {
         };
         self.run_tasks(&work, &tasks, out, &mut st);
         // The leaf-pair tasks counted every pair sharing a vertex (outside proven patches)
-        // as decided by a fan; the open-vertex tasks tested some of them.
-        st.self_adjacent_fans -= st.self_adjacent_tests;
+        // as decided by a fan; the open-vertex tasks tested some of them (never more: they
+        // are among those counted).
+        st.self_adjacent_fans = st.self_adjacent_fans.saturating_sub(st.self_adjacent_tests);
         st.tasks_nanos = whole::nanos_since(t);
         if !on_cpu {
             // A GL backend answers mesh pair by mesh pair, on the calling thread (its

@@ -845,10 +845,12 @@ impl SelfPrep {
 /// ([`SelfPrep::use_diag`]).
 const DIAG_RETRY: u32 = 16;
 
-/// Scratch of [`self_pairs`], reused from query to query.
+/// Scratch of [`self_pairs`] and [`self_neighbours`], reused from query to query.
 #[derive(Default)]
 pub struct SelfScratch {
-    /// Box-meeting polygon pairs (leaf order) of a task: sharing a vertex, and not.
+    /// Polygon pairs (positions in the layout's order) of the task at hand: a neighbour
+    /// task's pairs left to the adjacency test; a leaf-pair task's box-meeting pairs
+    /// sharing no vertex, left to the exact test.
     adjacent: Vec<[u32; 2]>,
     apart: Vec<[u32; 2]>,
     /// Sub-leaf pairs of the leaf pair at hand whose boxes meet.

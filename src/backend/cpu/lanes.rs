@@ -300,8 +300,8 @@ impl Lanes {
 
     /// For each of `cands` (at most 16), the boxes of the 16 from `start` (padding
     /// included) that meet it, as bits, within `keep`: in AVX2 where the CPU has it, else
-    /// one box at a time (where it has AVX-512, [`Lanes::pairs_16`] and
-    /// [`Lanes::split_16`] test them in [`Boxes16`]).
+    /// one box at a time (where it has AVX-512, [`Lanes::pairs_16`] tests them in
+    /// [`Boxes16`]).
     #[inline]
     fn masks_16(&self, start: usize, cands: &[Aabb], keep: u32) -> [u16; 16] {
         debug_assert!(cands.len() <= 16);
