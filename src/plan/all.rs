@@ -196,19 +196,27 @@ impl Planner {
             );
         }
         st.self_leaf_nanos = whole::nanos_since(t);
-        let t = Instant::now();
         let work = Work {
             list: &list,
             shared,
             preps,
             h,
         };
-        self.run_tasks(&work, &tasks, out, &mut st);
+        // The widths of the answer's keys, from the scene's mesh ids and polygon counts.
+        let (ids, polys) = list.iter().fold((0u32, 0u32), |(i, p), m| {
+            (
+                i | m.id,
+                p | m.mesh.polygon_count().saturating_sub(1) as u32,
+            )
+        });
+        let widths = super::sort::short_widths(ids, polys);
+        let (sorted, tasks_nanos, sort_nanos) = self.run_tasks(&work, &tasks, widths, out, &mut st);
         // The leaf-pair tasks counted every pair sharing a vertex (outside proven patches)
         // as decided by a fan; the open-vertex tasks tested some of them (never more: they
         // are among those counted).
         st.self_adjacent_fans = st.self_adjacent_fans.saturating_sub(st.self_adjacent_tests);
-        st.tasks_nanos = whole::nanos_since(t);
+        st.tasks_nanos = tasks_nanos;
+        let merged = out.len();
         if !on_cpu {
             // A GL backend answers mesh pair by mesh pair, on the calling thread (its
             // context is current here); with a band, both ways round, as its viewing
@@ -221,9 +229,13 @@ impl Planner {
                 }
             }
         }
+        // The workers' answer comes sorted; the GL backend's pairs after it, or an answer
+        // whose keys need 128 bits, are sorted here.
         let t = Instant::now();
-        super::sort::sort_pairs(out, &mut self.merge_keys, self.workers.pool.as_ref());
-        st.merge_nanos = whole::nanos_since(t);
+        if !sorted || out.len() != merged {
+            super::sort::sort_pairs(out, &mut self.merge_keys, self.workers.pool.as_ref());
+        }
+        st.merge_nanos = sort_nanos + whole::nanos_since(t);
         st.total_nanos = whole::nanos_since(start);
         self.all_stats = st;
         Ok(())
@@ -347,35 +359,81 @@ impl Planner {
     }
 
     /// Runs the tasks on the workers; their pairs into `out` (cleared first), their counts
-    /// and times into `st`.
+    /// and times into `st`. With `widths` (the scene's mesh ids and polygon numbers fit
+    /// [`super::sort::sort_pairs`]'s 64-bit keys), each worker then sorts its own pairs as
+    /// keys, on its own thread and side by side with the others (the pool still awake, each
+    /// worker reading the pairs it wrote), and the sorted lists are
+    /// merged into `out` in one pass, repeats dropped: the answer is then sorted (the
+    /// result: true); else `out` gets the pairs as they are. Returns also the time of the
+    /// tasks and of the sort, nanoseconds.
     fn run_tasks(
         &self,
         work: &Work<'_, '_>,
         tasks: &[Task],
+        widths: Option<(u32, u32)>,
         out: &mut Vec<Pair>,
         st: &mut AllStats,
-    ) {
-        for i in 0..self.workers.each.len() {
-            let mut w = self.workers.lock(i);
+    ) -> (bool, u64, u64) {
+        let start = Instant::now();
+        let workers = &self.workers;
+        let count = workers.each.len();
+        for i in 0..count {
+            let mut w = workers.lock(i);
             w.stats = AllStats::default();
             w.pairs.clear();
         }
-        let workers = &self.workers;
         let run = |t: &Task| work.run(t, &mut workers.here());
-        match &self.workers.pool {
+        let sort_own = |i: usize, widths: (u32, u32)| {
+            let mut w = workers.lock(i);
+            let w = &mut *w;
+            super::sort::sort_own(&w.pairs, widths, &mut w.keys, &mut w.key_scratch);
+        };
+        let mut tasks_done = start;
+        match &workers.pool {
             Some(pool) => pool.install(|| {
                 use rayon::prelude::*;
-                tasks.par_iter().with_max_len(1).for_each(run)
+                tasks.par_iter().with_max_len(1).for_each(run);
+                tasks_done = Instant::now();
+                if let Some(widths) = widths {
+                    // Worker `i`'s pairs were made on pool thread `i` (`Workers::here`).
+                    rayon::broadcast(|ctx| {
+                        if ctx.index() < count {
+                            sort_own(ctx.index(), widths)
+                        }
+                    });
+                }
             }),
-            None => tasks.iter().for_each(run),
+            None => {
+                tasks.iter().for_each(run);
+                tasks_done = Instant::now();
+                if let Some(widths) = widths {
+                    (0..count).for_each(|i| sort_own(i, widths));
+                }
+            }
+        }
+        let mut each: Vec<_> = (0..count).map(|i| workers.lock(i)).collect();
+        for w in &each {
+            st.add_worker(&w.stats);
         }
         out.clear();
-        for i in 0..self.workers.each.len() {
-            let mut w = self.workers.lock(i);
-            st.add_worker(&w.stats);
-            out.extend_from_slice(&w.pairs);
-            w.pairs.clear();
+        if let Some(widths) = widths {
+            let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
+            super::sort::merge_keys(&lists, widths, out);
+        } else {
+            for w in &each {
+                out.extend_from_slice(&w.pairs);
+            }
         }
+        for w in &mut each {
+            w.pairs.clear();
+            w.keys.clear();
+        }
+        let nanos = |a: Instant, b: Instant| (b - a).as_nanos() as u64;
+        (
+            widths.is_some(),
+            nanos(start, tasks_done),
+            nanos(tasks_done, Instant::now()),
+        )
     }
 
     /// The GL backend's contacts of reference `r` against `o`, as pairs into `out`.

@@ -3,7 +3,10 @@
 //! (radix sort), one pass per byte that differs between the keys. The pairs of a scene
 //! differ in few bytes (a big mesh's polygon numbers need three of each four, one mesh's
 //! self pairs none of the mesh ids'): five passes over the 78,000 pairs of a crumpled
-//! cloth, where a comparison sort makes seventeen.
+//! cloth, where a comparison sort makes seventeen. A whole-scene query's workers each sort
+//! their own pairs so ([`sort_own`], key widths from the scene's bounds: [`short_widths`])
+//! and the sorted lists are merged in one pass ([`merge_keys`]); [`sort_pairs`] sorts a
+//! list whole (an answer with the GL backend's pairs, or keys of 128 bits).
 
 use crate::backend::Pair;
 
@@ -74,6 +77,88 @@ pub(super) fn sort_pairs(
             mesh_b: (k >> 32) as u32,
             polygon_b: k as u32,
         }));
+    }
+}
+
+/// The widths `(pb, half)` of [`sort_pairs`]'s 64-bit keys (polygon bits; bits of a mesh
+/// id and a polygon together) for pairs whose mesh ids have no bit outside `ids` and whose
+/// polygon numbers none outside `polys`, where two such halves fit in 64 bits.
+pub(super) fn short_widths(ids: u32, polys: u32) -> Option<(u32, u32)> {
+    let bits = |x: u32| 32 - x.leading_zeros();
+    let (ib, pb) = (bits(ids), bits(polys));
+    (2 * (ib + pb) <= 64).then_some((pb, ib + pb))
+}
+
+/// `pairs` as 64-bit keys of widths `(pb, half)` ([`short_widths`]), sorted, into `keys`
+/// (`scratch` reused), on the calling thread: a worker's own answer, sorted where it was
+/// made, to be merged with the others' by [`merge_keys`].
+pub(super) fn sort_own(
+    pairs: &[Pair],
+    (pb, half): (u32, u32),
+    keys: &mut Vec<u64>,
+    scratch: &mut Vec<u64>,
+) {
+    keys.clear();
+    keys.extend(pairs.iter().map(|p| {
+        let a = u64::from(p.mesh_a) << pb | u64::from(p.polygon_a);
+        let b = u64::from(p.mesh_b) << pb | u64::from(p.polygon_b);
+        a << half | b
+    }));
+    sort_keys(keys, scratch, false);
+}
+
+/// Merges `lists` of sorted keys of widths `(pb, half)` ([`sort_own`]) into `out` (cleared
+/// first) as pairs, sorted, repeats dropped: one pass, two lists side by side (a compare
+/// and two selects per key, no branch on the order), more through a heap of their heads.
+pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec<Pair>) {
+    let (poly, side) = ((1u64 << pb) - 1, (1u64 << half) - 1);
+    let unpack = |key: u64| {
+        let (a, b) = (key >> half, key & side);
+        Pair {
+            mesh_a: (a >> pb) as u32,
+            polygon_a: (a & poly) as u32,
+            mesh_b: (b >> pb) as u32,
+            polygon_b: (b & poly) as u32,
+        }
+    };
+    out.clear();
+    out.reserve(lists.iter().map(|l| l.len()).sum());
+    let mut last: Option<u64> = None;
+    let mut push = |k: u64, out: &mut Vec<Pair>| {
+        if last != Some(k) {
+            out.push(unpack(k));
+            last = Some(k);
+        }
+    };
+    match lists {
+        [] => {}
+        [one] => one.iter().for_each(|&k| push(k, out)),
+        [a, b] => {
+            let (mut i, mut j) = (0, 0);
+            while i < a.len() && j < b.len() {
+                let (x, y) = (a[i], b[j]);
+                let take_a = x <= y;
+                push(if take_a { x } else { y }, out);
+                i += usize::from(take_a);
+                j += usize::from(!take_a);
+            }
+            a[i..].iter().chain(&b[j..]).for_each(|&k| push(k, out));
+        }
+        _ => {
+            use std::cmp::Reverse;
+            let mut heads: std::collections::BinaryHeap<Reverse<(u64, usize, usize)>> = lists
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| !l.is_empty())
+                .map(|(n, l)| Reverse((l[0], n, 0)))
+                .collect();
+            while let Some(Reverse((k, n, i))) = heads.pop() {
+                push(k, out);
+                if let Some(&next) = lists[n].get(i + 1) {
+                    heads.push(Reverse((next, n, i + 1)));
+                }
+            }
+        }
     }
 }
 
@@ -250,6 +335,73 @@ mod tests {
                 &format!("{n} 64-bit keys, shape {shape}"),
             );
             check(keys, &mut scratch, &format!("{n} keys, shape {shape}"));
+        }
+    }
+
+    /// Each list sorted as keys on its own (`sort_own`) and the lists merged (`merge_keys`)
+    /// against sorting all their pairs together as tuples and dropping repeats: no list,
+    /// one, two, three and five lists (some empty, repeats within and across lists), the
+    /// widest ids and polygon numbers that fit 64-bit keys, and the widths refused where
+    /// they do not fit.
+    #[test]
+    fn lists_sorted_apart_then_merged_as_one_sort() {
+        let mut rng = crate::geom::test_rng::Rng(17);
+        assert_eq!(short_widths(0, 92_449), Some((17, 17)));
+        assert_eq!(short_widths(999, 483), Some((9, 19)));
+        assert_eq!(short_widths((1 << 15) - 1, (1 << 17) - 1), Some((17, 32)));
+        assert_eq!(short_widths(1 << 15, (1 << 17) - 1), None);
+        assert_eq!(short_widths(u32::MAX, 0), Some((0, 32)));
+        assert_eq!(short_widths(u32::MAX, 1), None);
+        for (lists, n, ids, polys) in [
+            (0, 0, 0, 10),
+            (1, 20_000, 0, 92_449),
+            (2, 30_000, 0, 92_449),
+            (3, 10_000, 999, 483),
+            (5, 3_000, (1 << 15) - 1, (1 << 17) - 1),
+            (2, 100, 3, 7),
+        ] {
+            let widths = short_widths(ids, polys).unwrap();
+            let pair = |r: &mut crate::geom::test_rng::Rng| {
+                let m = |r: &mut crate::geom::test_rng::Rng, top: u32| {
+                    (r.next() % (u64::from(top) + 1)) as u32
+                };
+                let (a, b) = (m(r, ids), m(r, ids));
+                let (p, q) = (m(r, polys), m(r, polys));
+                Pair {
+                    mesh_a: a.min(b),
+                    polygon_a: p,
+                    mesh_b: a.max(b),
+                    polygon_b: q,
+                }
+            };
+            let mut all: Vec<Vec<Pair>> = (0..lists)
+                .map(|l| {
+                    let len = if l == 1 && lists > 2 { 0 } else { n };
+                    (0..len).map(|_| pair(&mut rng)).collect()
+                })
+                .collect();
+            if lists > 1 && n > 0 {
+                let again: Vec<Pair> = all[0][..n / 10].to_vec();
+                all[lists - 1].extend(again.iter().chain(&again));
+            }
+            let mut want: Vec<Pair> = all.iter().flatten().copied().collect();
+            want.sort_unstable();
+            want.dedup();
+            let (mut keys, mut scratch) = (Vec::new(), Vec::new());
+            let sorted: Vec<Vec<u64>> = all
+                .iter()
+                .map(|l| {
+                    sort_own(l, widths, &mut keys, &mut scratch);
+                    keys.clone()
+                })
+                .collect();
+            let slices: Vec<&[u64]> = sorted.iter().map(|l| &l[..]).collect();
+            let mut got = vec![pair(&mut rng)];
+            merge_keys(&slices, widths, &mut got);
+            assert!(
+                got == want,
+                "{lists} lists of {n}, ids to {ids}, polygons to {polys}"
+            );
         }
     }
 

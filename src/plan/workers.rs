@@ -24,9 +24,13 @@ pub(super) struct Worker {
     pub stats: AllStats,
     /// One mesh pair's contacts (scratch).
     pub found: Vec<Contact>,
-    /// The pairs it found in this query, in no particular order (the query sorts them all
-    /// at the end): kept from query to query, so that a task allocates nothing.
+    /// The pairs it found in this query, in no particular order: kept from query to query,
+    /// so that a task allocates nothing.
     pub pairs: Vec<Pair>,
+    /// The same as sorted keys, made by this worker once its tasks are done (see
+    /// `Planner::run_tasks`), and their sort's scratch.
+    pub keys: Vec<u64>,
+    pub key_scratch: Vec<u64>,
 }
 
 /// The scene's workers: the pool (None: the calling thread only) and each worker's state.
