@@ -30,35 +30,19 @@ pub(super) fn sort_pairs(
     k: &mut PairKeys,
     pool: Option<&rayon::ThreadPool>,
 ) {
-    let bits = |x: u32| 32 - x.leading_zeros();
     let (mut ids, mut polys) = (0u32, 0u32);
     for p in pairs.iter() {
         ids |= p.mesh_a | p.mesh_b;
         polys |= p.polygon_a | p.polygon_b;
     }
-    let (ib, pb) = (bits(ids), bits(polys));
-    if 2 * (ib + pb) <= 64 {
-        let half = ib + pb;
+    if let Some(widths) = short_widths(ids, polys) {
         let keys = &mut k.short;
         keys.clear();
-        keys.extend(pairs.iter().map(|p| {
-            let a = u64::from(p.mesh_a) << pb | u64::from(p.polygon_a);
-            let b = u64::from(p.mesh_b) << pb | u64::from(p.polygon_b);
-            a << half | b
-        }));
+        keys.extend(pairs.iter().map(|p| short_key(p, widths)));
         sort_on(keys, &mut k.short_scratch, pool);
         keys.dedup();
-        let (poly, side) = ((1u64 << pb) - 1, (1u64 << half) - 1);
         pairs.clear();
-        pairs.extend(keys.iter().map(|&key| {
-            let (a, b) = (key >> half, key & side);
-            Pair {
-                mesh_a: (a >> pb) as u32,
-                polygon_a: (a & poly) as u32,
-                mesh_b: (b >> pb) as u32,
-                polygon_b: (b & poly) as u32,
-            }
-        }));
+        pairs.extend(keys.iter().map(|&key| short_pair(key, widths)));
     } else {
         let keys = &mut k.wide;
         keys.clear();
@@ -89,6 +73,29 @@ pub(super) fn short_widths(ids: u32, polys: u32) -> Option<(u32, u32)> {
     (2 * (ib + pb) <= 64).then_some((pb, ib + pb))
 }
 
+/// Pair `p`'s 64-bit key of widths `(pb, half)` ([`short_widths`]): (mesh_a, polygon_a)
+/// above (mesh_b, polygon_b), each mesh id above its polygon number, so that keys sort as
+/// pairs do.
+#[inline(always)]
+fn short_key(p: &Pair, (pb, half): (u32, u32)) -> u64 {
+    let a = u64::from(p.mesh_a) << pb | u64::from(p.polygon_a);
+    let b = u64::from(p.mesh_b) << pb | u64::from(p.polygon_b);
+    a << half | b
+}
+
+/// The pair of a [`short_key`] of widths `(pb, half)`.
+#[inline(always)]
+fn short_pair(key: u64, (pb, half): (u32, u32)) -> Pair {
+    let (poly, side) = ((1u64 << pb) - 1, (1u64 << half) - 1);
+    let (a, b) = (key >> half, key & side);
+    Pair {
+        mesh_a: (a >> pb) as u32,
+        polygon_a: (a & poly) as u32,
+        mesh_b: (b >> pb) as u32,
+        polygon_b: (b & poly) as u32,
+    }
+}
+
 /// `pairs` as 64-bit keys of widths `(pb, half)` ([`short_widths`]), sorted, into `keys`
 /// (`scratch` reused), on the calling thread: a worker's own answer, sorted where it was
 /// made, to be merged with the others' by [`merge_keys`].
@@ -99,11 +106,7 @@ pub(super) fn sort_own(
     scratch: &mut Vec<u64>,
 ) {
     keys.clear();
-    keys.extend(pairs.iter().map(|p| {
-        let a = u64::from(p.mesh_a) << pb | u64::from(p.polygon_a);
-        let b = u64::from(p.mesh_b) << pb | u64::from(p.polygon_b);
-        a << half | b
-    }));
+    keys.extend(pairs.iter().map(|p| short_key(p, (pb, half))));
     sort_keys(keys, scratch, false);
 }
 
@@ -111,16 +114,7 @@ pub(super) fn sort_own(
 /// first) as pairs, sorted, repeats dropped: one pass, two lists side by side (a compare
 /// and two selects per key, no branch on the order), more through a heap of their heads.
 pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec<Pair>) {
-    let (poly, side) = ((1u64 << pb) - 1, (1u64 << half) - 1);
-    let unpack = |key: u64| {
-        let (a, b) = (key >> half, key & side);
-        Pair {
-            mesh_a: (a >> pb) as u32,
-            polygon_a: (a & poly) as u32,
-            mesh_b: (b >> pb) as u32,
-            polygon_b: (b & poly) as u32,
-        }
-    };
+    let unpack = |key: u64| short_pair(key, (pb, half));
     out.clear();
     out.reserve(lists.iter().map(|l| l.len()).sum());
     let mut last: Option<u64> = None;
