@@ -127,17 +127,7 @@ pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec
     match lists {
         [] => {}
         [one] => one.iter().for_each(|&k| push(k, out)),
-        [a, b] => {
-            let (mut i, mut j) = (0, 0);
-            while i < a.len() && j < b.len() {
-                let (x, y) = (a[i], b[j]);
-                let take_a = x <= y;
-                push(if take_a { x } else { y }, out);
-                i += usize::from(take_a);
-                j += usize::from(!take_a);
-            }
-            a[i..].iter().chain(&b[j..]).for_each(|&k| push(k, out));
-        }
+        [a, b] => merge_two(a, b, |k| push(k, out)),
         _ => {
             use std::cmp::Reverse;
             let mut heads: std::collections::BinaryHeap<Reverse<(u64, usize, usize)>> = lists
@@ -226,14 +216,27 @@ pub(super) fn sort_keys<K: Key>(keys: &mut Vec<K>, scratch: &mut Vec<K>, par: bo
     }
     // The two sorted halves merged into `scratch`, which becomes the keys.
     let (lo, hi) = keys.split_at(half);
-    let (mut i, mut j) = (0, 0);
-    for k in scratch.iter_mut() {
-        let take_lo = j == hi.len() || (i < lo.len() && lo[i] <= hi[j]);
-        *k = if take_lo { lo[i] } else { hi[j] };
-        i += usize::from(take_lo);
-        j += usize::from(!take_lo);
-    }
+    let mut at = 0;
+    merge_two(lo, hi, |k| {
+        scratch[at] = k;
+        at += 1;
+    });
     std::mem::swap(keys, scratch);
+}
+
+/// Two sorted lists merged in order, each key to `emit`: a compare and two selects per
+/// key, no branch on which list it comes from.
+#[inline(always)]
+fn merge_two<K: Copy + Ord>(a: &[K], b: &[K], mut emit: impl FnMut(K)) {
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        let (x, y) = (a[i], b[j]);
+        let take_a = x <= y;
+        emit(if take_a { x } else { y });
+        i += usize::from(take_a);
+        j += usize::from(!take_a);
+    }
+    a[i..].iter().chain(&b[j..]).for_each(|&k| emit(k));
 }
 
 /// The radix sort of [`sort_keys`] (a comparison sort below [`RADIX_MIN`] keys), with

@@ -7,7 +7,7 @@
 //! the pairs sharing no vertex, for the exact test. The neighbour pairs a fan certificate
 //! does not decide are listed from the topology instead, around the few vertices whose fan
 //! is not proven ([`Neighbours::pairs_at`]). On a 92k-triangle crumpled cloth that takes
-//! the ~440,000 neighbour pairs out of the box stage (they were four box pairs in ten
+//! the ~440,000 neighbour pairs out of the box stage (they were half the 903,000 box pairs
 //! found there, each split by comparing vertex indices), and lists the ~12,000 left to a
 //! test from ~2,000 vertices.
 
