@@ -401,6 +401,10 @@ impl Planner {
                             sort_own(ctx.index(), widths)
                         }
                     });
+                    // The sorted lists merged on the pool (two in two halves side by side).
+                    let each: Vec<_> = (0..count).map(|i| workers.lock(i)).collect();
+                    let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
+                    super::sort::merge_keys(&lists, widths, out, true);
                 }
             }),
             None => {
@@ -408,6 +412,9 @@ impl Planner {
                 tasks_done = Instant::now();
                 if let Some(widths) = widths {
                     (0..count).for_each(|i| sort_own(i, widths));
+                    let each: Vec<_> = (0..count).map(|i| workers.lock(i)).collect();
+                    let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
+                    super::sort::merge_keys(&lists, widths, out, false);
                 }
             }
         }
@@ -415,11 +422,8 @@ impl Planner {
         for w in &each {
             st.add_worker(&w.stats);
         }
-        out.clear();
-        if let Some(widths) = widths {
-            let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
-            super::sort::merge_keys(&lists, widths, out);
-        } else {
+        if widths.is_none() {
+            out.clear();
             for w in &each {
                 out.extend_from_slice(&w.pairs);
             }

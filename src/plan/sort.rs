@@ -5,10 +5,12 @@
 //! self pairs none of the mesh ids'): five passes over the 78,000 pairs of a crumpled
 //! cloth, where a comparison sort makes seventeen. A whole-scene query's workers each sort
 //! their own pairs so ([`sort_own`], key widths from the scene's bounds: [`short_widths`])
-//! and the sorted lists are merged in one pass ([`merge_keys`]); [`sort_pairs`] sorts a
+//! and the sorted lists are merged in one pass ([`merge_keys`], two lists in two halves side
+//! by side on two workers: [`merge_split`]); [`sort_pairs`] sorts a
 //! list whole (an answer with the GL backend's pairs, or keys of 128 bits).
 
 use crate::backend::Pair;
+use std::mem::MaybeUninit;
 
 /// The keys and scratch of [`sort_pairs`], reused from query to query.
 #[derive(Default)]
@@ -113,7 +115,15 @@ pub(super) fn sort_own(
 /// Merges `lists` of sorted keys of widths `(pb, half)` ([`sort_own`]) into `out` (cleared
 /// first) as pairs, sorted, repeats dropped: one pass, two lists side by side (a compare
 /// and two selects per key, no branch on the order), more through a heap of their heads.
-pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec<Pair>) {
+/// With `par` (called inside a pool of two or more workers), two long lists are merged
+/// in two halves side by side ([`merge_split`]).
+pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec<Pair>, par: bool) {
+    if let ([a, b], true) = (lists, par) {
+        if a.len() + b.len() >= 2 * RADIX_MIN {
+            merge_split(a, b, (pb, half), out);
+            return;
+        }
+    }
     let unpack = |key: u64| short_pair(key, (pb, half));
     out.clear();
     out.reserve(lists.iter().map(|l| l.len()).sum());
@@ -222,6 +232,54 @@ pub(super) fn sort_keys<K: Key>(keys: &mut Vec<K>, scratch: &mut Vec<K>, par: bo
         at += 1;
     });
     std::mem::swap(keys, scratch);
+}
+
+/// [`merge_keys`] of two lists on two workers: the answer cut in the middle (the first
+/// half's keys taken from the fronts of both lists, found by bisection), each half merged
+/// by one worker straight into its part of `out`. Repeats are dropped within each half
+/// and across the cut; where the first half dropped some, the second is moved down to
+/// follow it.
+fn merge_split(a: &[u64], b: &[u64], widths: (u32, u32), out: &mut Vec<Pair>) {
+    let n = a.len() + b.len();
+    let cut = n / 2;
+    // The least `i` with `a[i] > b[cut - i - 1]`: then `a[..i]` and `b[..cut - i]` are
+    // `cut` keys none greater than any of the rest.
+    let (mut lo, mut hi) = (cut.saturating_sub(b.len()), cut.min(a.len()));
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if a[mid] <= b[cut - mid - 1] {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    let (i, j) = (lo, cut - lo);
+    // The key before the second half (its repeat there is dropped).
+    let before = a[..i].last().max(b[..j].last()).copied();
+    out.clear();
+    out.reserve(n);
+    let (first, second) = out.spare_capacity_mut()[..n].split_at_mut(cut);
+    let merge_into = |x: &[u64], y: &[u64], last: Option<u64>, to: &mut [MaybeUninit<Pair>]| {
+        let (mut at, mut last) = (0, last);
+        merge_two(x, y, |k| {
+            if last != Some(k) {
+                to[at].write(short_pair(k, widths));
+                at += 1;
+                last = Some(k);
+            }
+        });
+        at
+    };
+    let (made, more) = rayon::join(
+        || merge_into(&a[..i], &b[..j], None, first),
+        || merge_into(&a[i..], &b[j..], before, second),
+    );
+    let spare = out.spare_capacity_mut();
+    spare.copy_within(cut..cut + more, made);
+    // SAFETY: the first `made` entries were written by the first half's merge, the next
+    // `more` by the second's (moved to follow them): every one up to the new length is
+    // initialised, within the reserved capacity.
+    unsafe { out.set_len(made + more) };
 }
 
 /// Two sorted lists merged in order, each key to `emit`: a compare and two selects per
@@ -343,6 +401,10 @@ mod tests {
     #[test]
     fn lists_sorted_apart_then_merged_as_one_sort() {
         let mut rng = crate::geom::test_rng::Rng(17);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
         assert_eq!(short_widths(0, 92_449), Some((17, 17)));
         assert_eq!(short_widths(999, 483), Some((9, 19)));
         assert_eq!(short_widths((1 << 15) - 1, (1 << 17) - 1), Some((17, 32)));
@@ -356,6 +418,8 @@ mod tests {
             (3, 10_000, 999, 483),
             (5, 3_000, (1 << 15) - 1, (1 << 17) - 1),
             (2, 100, 3, 7),
+            // Long lists of a few keys: repeats across the two halves' cut.
+            (2, 6_000, 0, 7),
         ] {
             let widths = short_widths(ids, polys).unwrap();
             let pair = |r: &mut crate::geom::test_rng::Rng| {
@@ -393,12 +457,46 @@ mod tests {
                 })
                 .collect();
             let slices: Vec<&[u64]> = sorted.iter().map(|l| &l[..]).collect();
-            let mut got = vec![pair(&mut rng)];
-            merge_keys(&slices, widths, &mut got);
-            assert!(
-                got == want,
-                "{lists} lists of {n}, ids to {ids}, polygons to {polys}"
-            );
+            for par in [false, true] {
+                let mut got = vec![pair(&mut rng)];
+                pool.install(|| merge_keys(&slices, widths, &mut got, par));
+                assert!(
+                    got == want,
+                    "{lists} lists of {n}, ids to {ids}, polygons to {polys}, par {par}"
+                );
+            }
+        }
+    }
+
+    /// The two-worker merge where the cut falls at either end of a list: one list all
+    /// below the other, one empty, the lists interleaved, against one sort.
+    #[test]
+    fn merge_split_at_the_ends() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let widths = short_widths(0, 1 << 16).unwrap();
+        let keys = |r: std::ops::Range<u64>, step: u64| -> Vec<u64> {
+            r.step_by(step as usize)
+                .map(|p| p << widths.1 | (p + 1))
+                .collect()
+        };
+        for (a, b) in [
+            (keys(0..10_000, 1), keys(10_000..20_000, 1)),
+            (keys(10_000..20_000, 1), keys(0..10_000, 1)),
+            (keys(0..20_000, 1), keys(0..20_000, 1)),
+            (keys(0..20_000, 2), keys(1..20_000, 2)),
+            (Vec::new(), keys(0..20_000, 1)),
+            (keys(0..20_000, 1), Vec::new()),
+            (keys(0..9_000, 1), keys(5..7, 1)),
+        ] {
+            let mut want: Vec<Pair> = a.iter().chain(&b).map(|&k| short_pair(k, widths)).collect();
+            want.sort_unstable();
+            want.dedup();
+            let mut got = Vec::new();
+            pool.install(|| merge_keys(&[&a, &b], widths, &mut got, true));
+            assert!(got == want, "lists of {} and {}", a.len(), b.len());
         }
     }
 
