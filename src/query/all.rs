@@ -511,8 +511,14 @@ impl SelfPrep {
         }
         // The fans' verdicts, then the vertices around which neighbours are left to test.
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
-        self.fans
-            .prove(tris, turns, par, &mut self.fan_scratch, &mut self.fan_ok);
+        self.fans.prove(
+            tris,
+            float.then_some(&slots[..]),
+            turns,
+            par,
+            &mut self.fan_scratch,
+            &mut self.fan_ok,
+        );
         self.certified_fans = self.fan_ok.iter().filter(|&&x| x).count();
         self.open.clear();
         let (near, ok) = (&self.near, &self.fan_ok);
@@ -746,6 +752,7 @@ impl SelfPrep {
                     .iter()
                     .map(|&p| [0, 1, 2].map(|c| m.poly(p as usize)[c])),
             );
+            self.fans.set_points(&self.corner_slots);
         }
         self.k = m.vertices_per_polygon();
         self.near = Neighbours::new(&self.verts, self.k, m.vertex_count(), &self.sub_start);
