@@ -36,7 +36,7 @@ impl Diag {
     /// The bounds of each triangle of `tris`, padded; in chunks shared between the
     /// caller's worker threads with `par` (inside a pool).
     pub fn set_triangles(&mut self, tris: &[[crate::geom::P3; 3]], par: bool) {
-        self.fill(tris.len(), par, |first, out| {
+        self.fill::<POLYGON_CHUNK>(tris.len(), par, |first, out| {
             for (i, t) in tris[first..first + out[0].len()].iter().enumerate() {
                 let [a, b, c] = t.map(|v| diag_sums(&v));
                 for k in 0..6 {
@@ -52,7 +52,7 @@ impl Diag {
     /// triangle by triangle in one pass with no branch: where the CPU has AVX-512F the
     /// compiler runs it sixteen triangles at a time.
     pub fn set_corners(&mut self, points: &[[f32; 3]], corners: &[[u32; 3]], par: bool) {
-        self.fill(corners.len(), par, |first, out| {
+        self.fill::<POLYGON_CHUNK>(corners.len(), par, |first, out| {
             let corners = &corners[first..first + out[0].len()];
             #[cfg(target_arch = "x86_64")]
             if std::is_x86_feature_detected!("avx512f") {
@@ -66,7 +66,9 @@ impl Diag {
     /// The union of the bounds of `of` in each run `starts[s]..starts[s + 1]` (a
     /// sub-leaf's polygons), padded.
     pub fn set_union(&mut self, of: &Diag, starts: &[u32], par: bool) {
-        self.fill(starts.len() - 1, par, |first, out| {
+        // (A run is up to sixteen polygons: chunks of as many polygons as theirs, so that
+        // two workers share the ~6,000 sub-leaves of a 92k-triangle cloth.)
+        self.fill::<{ POLYGON_CHUNK / 16 }>(starts.len() - 1, par, |first, out| {
             #[cfg(target_arch = "x86_64")]
             if std::is_x86_feature_detected!("avx512f") {
                 // SAFETY: the CPU supports AVX-512F, checked just above.
@@ -88,10 +90,14 @@ impl Diag {
     }
 
     /// Sizes the arrays for `n` entries, padded, then has `make(first, bounds)` write the
-    /// twelve bounds (lo 0..6, hi 6..12) of entries `first..` chunk by chunk.
-    fn fill(&mut self, n: usize, par: bool, make: impl Fn(usize, &mut [&mut [f32]; 12]) + Sync) {
+    /// twelve bounds (lo 0..6, hi 6..12) of entries `first..` in chunks of `CHUNK`.
+    fn fill<const CHUNK: usize>(
+        &mut self,
+        n: usize,
+        par: bool,
+        make: impl Fn(usize, &mut [&mut [f32]; 12]) + Sync,
+    ) {
         use rayon::prelude::*;
-        const CHUNK: usize = 2048;
         // The entries are all written below: only a new length touches the padding.
         if self.lo[0].len() != n + PAD {
             for v in self.lo.iter_mut() {
@@ -134,6 +140,9 @@ impl Diag {
         (0..6).all(|k| self.hi[k][i] >= self.lo[k][j] && self.lo[k][i] <= self.hi[k][j])
     }
 }
+
+/// Polygons a job of [`Diag::fill`] bounds (one job a chunk).
+const POLYGON_CHUNK: usize = 2048;
 
 /// 2^-140 (a subnormal `f32`): the absolute part of [`outward`]'s and [`outward_f32`]'s
 /// margins.
