@@ -157,13 +157,6 @@ struct PieceLayout {
     boundary: Option<Loop>,
 }
 
-/// What [`leaf_certify`] proved of one leaf this query: each sub-leaf's patch (its piece)
-/// and the patches' projections (0: not proven).
-struct LeafOut {
-    sub_patch: Vec<u32>,
-    patches: Vec<u8>,
-}
-
 /// The layout of one leaf of a self-colliding mesh: `items` (its polygons, positions
 /// `start..` of the leaf order) are grouped by connected piece (shared edges, from the twins
 /// `tw`; one piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by
@@ -297,33 +290,26 @@ fn leaf_layout(
 
 /// This query's certificates of one leaf laid out as `lay` (its polygons at positions
 /// `start..` of the layout's order, the numbering of `tris` and `turns`): each piece is
-/// tried as a patch ([`crate::geom::patch`]).
+/// tried as a patch ([`crate::geom::patch`]), its usable projections (0: not proven)
+/// into `out` (an entry per piece).
 fn leaf_certify(
     lay: &LeafLayout,
     start: usize,
     tris: &[[P3; 3]],
     turns: &[u8],
     check: &mut PatchCheck,
-) -> LeafOut {
-    let patches = lay
-        .pieces
-        .iter()
-        .map(|piece| {
-            let Some(l) = &piece.boundary else {
-                return 0;
-            };
-            let (a, b) = piece.range;
-            let m = common_turns(&mut (start + a..start + b), turns);
-            if m != 0 && check.simple(l, mask_axis(m), tris) {
-                m
-            } else {
-                0
-            }
-        })
-        .collect();
-    LeafOut {
-        sub_patch: lay.sub_piece.clone(),
-        patches,
+    out: &mut [u8],
+) {
+    for (piece, cert) in lay.pieces.iter().zip(out) {
+        *cert = 0;
+        let Some(l) = &piece.boundary else {
+            continue;
+        };
+        let (a, b) = piece.range;
+        let m = common_turns(&mut (start + a..start + b), turns);
+        if m != 0 && check.simple(l, mask_axis(m), tris) {
+            *cert = m;
+        }
     }
 }
 
@@ -528,34 +514,39 @@ impl SelfPrep {
                 .copied()
                 .filter(|&v| !ok.get(v as usize).is_some_and(|&x| x)),
         );
+        // The patches' certificates (numbered as `sub_patch` says), each leaf's written in
+        // its own part of `patch_cert`.
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
-        let layouts = &self.layouts;
-        let cert = |check: &mut PatchCheck, l: usize| {
-            leaf_certify(&layouts[l], leaf_range(l).start, tris, turns, check)
-        };
-        let outs: Vec<LeafOut> = if certify {
-            map_checked((0..m.leaf_count()).collect(), par, cert)
-        } else {
-            Vec::new()
-        };
-        self.sub_patch.clear();
         self.patch_cert.clear();
-        self.certified_patches = 0;
-        if !certify {
-            // No certificate: every leaf one unproven patch.
-            for (l, lay) in self.layouts.iter().enumerate() {
-                self.sub_patch
-                    .extend(std::iter::repeat_n(l as u32, lay.ends.len()));
-                self.patch_cert.push(0);
+        if certify {
+            let pieces = self.layouts.iter().map(|lay| lay.pieces.len());
+            self.patch_cert.resize(pieces.clone().sum(), 0);
+            let mut rest = &mut self.patch_cert[..];
+            let mut parts = Vec::with_capacity(self.layouts.len());
+            for (l, count) in pieces.enumerate() {
+                let (this, tail) = std::mem::take(&mut rest).split_at_mut(count);
+                parts.push((l, this));
+                rest = tail;
             }
+            let layouts = &self.layouts;
+            let cert = |check: &mut PatchCheck, (l, out): (usize, &mut [u8])| {
+                leaf_certify(&layouts[l], leaf_range(l).start, tris, turns, check, out)
+            };
+            if par {
+                // A job or two leaves each: their pieces' costs differ widely.
+                parts
+                    .into_par_iter()
+                    .with_max_len(2)
+                    .for_each_init(PatchCheck::default, cert);
+            } else {
+                let mut check = PatchCheck::default();
+                parts.into_iter().for_each(|x| cert(&mut check, x));
+            }
+        } else {
+            // No certificate: every leaf one unproven patch.
+            self.patch_cert.resize(self.layouts.len(), 0);
         }
-        for out in outs {
-            let first = self.patch_cert.len() as u32;
-            self.sub_patch
-                .extend(out.sub_patch.iter().map(|&c| c + first));
-            self.certified_patches += out.patches.iter().filter(|&&pr| pr != 0).count();
-            self.patch_cert.extend(out.patches);
-        }
+        self.certified_patches = self.patch_cert.iter().filter(|&&c| c != 0).count();
         // The polygons' boxes: a float mesh's triangle's from its corner slots (as
         // `Mesh::poly_box`, in order); another triangle's from its corners, already made
         // (bounds rounded outward: a box holding the very triangle tested).
@@ -718,9 +709,21 @@ impl SelfPrep {
         self.sub_start.push(0);
         self.leaf_sub.clear();
         self.leaf_sub.push(0);
-        for lay in &self.layouts {
+        // Each sub-leaf's patch: with twins, its piece's, the pieces numbered leaf after
+        // leaf; without, its leaf's (one unproven patch a leaf).
+        self.sub_patch.clear();
+        let mut first = 0;
+        for (l, lay) in self.layouts.iter().enumerate() {
             self.sub_start.extend(&lay.ends);
             self.leaf_sub.push(self.sub_start.len() as u32 - 1);
+            if tw.is_some() {
+                self.sub_patch
+                    .extend(lay.sub_piece.iter().map(|&c| c + first));
+                first += lay.pieces.len() as u32;
+            } else {
+                self.sub_patch
+                    .extend(std::iter::repeat_n(l as u32, lay.ends.len()));
+            }
         }
         self.fans = match tw {
             Some(tw) if triangles => Fans::new(m.vertex_count(), &self.verts, tw),
