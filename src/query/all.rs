@@ -495,40 +495,48 @@ impl SelfPrep {
             leaf_pairs();
             tris_turns();
         }
-        // The fans' verdicts, then the vertices around which neighbours are left to test.
+        // The fans' verdicts, then the vertices around which neighbours are left to test;
+        // side by side, the patches' certificates (numbered as `sub_patch` says), each
+        // leaf's written in its own part of `patch_cert`. (Each is a parallel loop whose
+        // last jobs leave a worker idle; side by side the other's jobs fill the gap.)
         let (tris, turns) = (&self.tris[..], &self.turns[..]);
-        self.fans.prove(
-            tris,
-            float.then_some(&slots[..]),
-            turns,
-            par,
-            &mut self.fan_scratch,
-            &mut self.fan_ok,
-        );
-        self.certified_fans = self.fan_ok.iter().filter(|&&x| x).count();
-        self.open.clear();
-        let (near, ok) = (&self.near, &self.fan_ok);
-        self.open.extend(
-            near.shared_vertices()
-                .iter()
-                .copied()
-                .filter(|&v| !ok.get(v as usize).is_some_and(|&x| x)),
-        );
-        // The patches' certificates (numbered as `sub_patch` says), each leaf's written in
-        // its own part of `patch_cert`.
-        let (tris, turns) = (&self.tris[..], &self.turns[..]);
-        self.patch_cert.clear();
-        if certify {
-            let pieces = self.layouts.iter().map(|lay| lay.pieces.len());
-            self.patch_cert.resize(pieces.clone().sum(), 0);
-            let mut rest = &mut self.patch_cert[..];
-            let mut parts = Vec::with_capacity(self.layouts.len());
+        let (fans, fan_scratch, fan_ok) = (&self.fans, &mut self.fan_scratch, &mut self.fan_ok);
+        let (near, open) = (&self.near, &mut self.open);
+        let mut prove_fans = || {
+            fans.prove(
+                tris,
+                float.then_some(&slots[..]),
+                turns,
+                par,
+                fan_scratch,
+                fan_ok,
+            );
+            open.clear();
+            open.extend(
+                near.shared_vertices()
+                    .iter()
+                    .copied()
+                    .filter(|&v| !fan_ok.get(v as usize).is_some_and(|&x| x)),
+            );
+            fan_ok.iter().filter(|&&x| x).count()
+        };
+        let (layouts, patch_cert) = (&self.layouts, &mut self.patch_cert);
+        let mut certify_patches = || {
+            patch_cert.clear();
+            if !certify {
+                // No certificate: every leaf one unproven patch.
+                patch_cert.resize(layouts.len(), 0);
+                return;
+            }
+            let pieces = layouts.iter().map(|lay| lay.pieces.len());
+            patch_cert.resize(pieces.clone().sum(), 0);
+            let mut rest = &mut patch_cert[..];
+            let mut parts = Vec::with_capacity(layouts.len());
             for (l, count) in pieces.enumerate() {
                 let (this, tail) = std::mem::take(&mut rest).split_at_mut(count);
                 parts.push((l, this));
                 rest = tail;
             }
-            let layouts = &self.layouts;
             let cert = |check: &mut PatchCheck, (l, out): (usize, &mut [u8])| {
                 leaf_certify(&layouts[l], leaf_range(l).start, tris, turns, check, out)
             };
@@ -542,10 +550,13 @@ impl SelfPrep {
                 let mut check = PatchCheck::default();
                 parts.into_iter().for_each(|x| cert(&mut check, x));
             }
+        };
+        self.certified_fans = if par {
+            rayon::join(prove_fans, certify_patches).0
         } else {
-            // No certificate: every leaf one unproven patch.
-            self.patch_cert.resize(self.layouts.len(), 0);
-        }
+            certify_patches();
+            prove_fans()
+        };
         self.certified_patches = self.patch_cert.iter().filter(|&&c| c != 0).count();
         // The polygons' boxes: a float mesh's triangle's from its corner slots (as
         // `Mesh::poly_box`, in order); another triangle's from its corners, already made
