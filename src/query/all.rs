@@ -554,8 +554,9 @@ impl SelfPrep {
         self.certified_fans = if par {
             rayon::join(prove_fans, certify_patches).0
         } else {
+            let proven = prove_fans();
             certify_patches();
-            prove_fans()
+            proven
         };
         self.certified_patches = self.patch_cert.iter().filter(|&&c| c != 0).count();
         // The polygons' boxes: a float mesh's triangle's from its corner slots (as
