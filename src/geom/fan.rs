@@ -437,24 +437,36 @@ mod tests {
         assert!((0..3).all(|x| !fans.proven(x, &tris, &turns)));
     }
 
+    /// A grid of `n` by `n` cells crumpled by a noise of round `round`'s amplitude, each
+    /// coordinate passed through `round_to`; every third round a vertex snapped onto
+    /// another's coordinates (ties in y).
+    fn crumpled(
+        rng: &mut Rng,
+        round: usize,
+        n: u32,
+        round_to: impl Fn(f64) -> f64,
+    ) -> (Vec<[u32; 3]>, Vec<P3>) {
+        let amp = [0.05, 0.3, 1.0, 3.0][round % 4];
+        let (v, mut p) = grid(n, |x, y| [x, y, 0.0]);
+        for q in &mut p {
+            for c in q.iter_mut() {
+                *c = round_to(*c + amp * rng.f() / f64::from(n));
+            }
+        }
+        if round.is_multiple_of(3) {
+            p[8][1] = p[9][1];
+            p[15][2] = p[8][2];
+        }
+        (v, p)
+    }
+
     #[test]
     fn random_crumpled_sheets_never_prove_a_meeting_pair() {
         let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
         let (mut proven, mut refused) = (0, 0);
         for round in 0..300 {
-            let amp = [0.05, 0.3, 1.0, 3.0][round % 4];
             let n = 5;
-            let (v, mut p) = grid(n, |x, y| [x, y, 0.0]);
-            for q in &mut p {
-                for c in q.iter_mut() {
-                    *c += amp * rng.f() / n as f64;
-                }
-            }
-            // Now and then a vertex snapped onto another's coordinate (ties in y).
-            if round % 3 == 0 {
-                p[8][1] = p[9][1];
-                p[15][2] = p[8][2];
-            }
+            let (v, p) = crumpled(&mut rng, round, n, |c| c);
             let got = check(&v, &p).len();
             proven += got;
             refused += interior(n).count() - got;
@@ -474,18 +486,7 @@ mod tests {
         let mut rng = Rng(77);
         let mut proven = 0;
         for round in 0..100 {
-            let amp = [0.05, 0.3, 1.0, 3.0][round % 4];
-            let n = 6;
-            let (v, mut p) = grid(n, |x, y| [x, y, 0.0]);
-            for q in &mut p {
-                for c in q.iter_mut() {
-                    *c = f64::from((*c + amp * rng.f() / n as f64) as f32);
-                }
-            }
-            if round % 3 == 0 {
-                p[8][1] = p[9][1];
-                p[15][2] = p[8][2];
-            }
+            let (v, p) = crumpled(&mut rng, round, 6, |c| f64::from(c as f32));
             let Some((mut fans, tris, turns)) = setup(&v, &p) else {
                 continue;
             };
