@@ -124,20 +124,13 @@ pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec
             return;
         }
     }
-    let unpack = |key: u64| short_pair(key, (pb, half));
     out.clear();
     out.reserve(lists.iter().map(|l| l.len()).sum());
-    let mut last: Option<u64> = None;
-    let mut push = |k: u64, out: &mut Vec<Pair>| {
-        if last != Some(k) {
-            out.push(unpack(k));
-            last = Some(k);
-        }
-    };
+    let mut push = unique(None, |k| out.push(short_pair(k, (pb, half))));
     match lists {
         [] => {}
-        [one] => one.iter().for_each(|&k| push(k, out)),
-        [a, b] => merge_two(a, b, |k| push(k, out)),
+        [one] => one.iter().for_each(|&k| push(k)),
+        [a, b] => merge_two(a, b, push),
         _ => {
             use std::cmp::Reverse;
             let mut heads: std::collections::BinaryHeap<Reverse<(u64, usize, usize)>> = lists
@@ -147,7 +140,7 @@ pub(super) fn merge_keys(lists: &[&[u64]], (pb, half): (u32, u32), out: &mut Vec
                 .map(|(n, l)| Reverse((l[0], n, 0)))
                 .collect();
             while let Some(Reverse((k, n, i))) = heads.pop() {
-                push(k, out);
+                push(k);
                 if let Some(&next) = lists[n].get(i + 1) {
                     heads.push(Reverse((next, n, i + 1)));
                 }
@@ -260,14 +253,15 @@ fn merge_split(a: &[u64], b: &[u64], widths: (u32, u32), out: &mut Vec<Pair>) {
     out.reserve(n);
     let (first, second) = out.spare_capacity_mut()[..n].split_at_mut(cut);
     let merge_into = |x: &[u64], y: &[u64], last: Option<u64>, to: &mut [MaybeUninit<Pair>]| {
-        let (mut at, mut last) = (0, last);
-        merge_two(x, y, |k| {
-            if last != Some(k) {
+        let mut at = 0;
+        merge_two(
+            x,
+            y,
+            unique(last, |k| {
                 to[at].write(short_pair(k, widths));
                 at += 1;
-                last = Some(k);
-            }
-        });
+            }),
+        );
         at
     };
     let (made, more) = rayon::join(
@@ -280,6 +274,18 @@ fn merge_split(a: &[u64], b: &[u64], widths: (u32, u32), out: &mut Vec<Pair>) {
     // `more` by the second's (moved to follow them): every one up to the new length is
     // initialised, within the reserved capacity.
     unsafe { out.set_len(made + more) };
+}
+
+/// `emit` for each key given it but a repeat of the one before (`last` before the first):
+/// sorted keys with their repeats dropped.
+#[inline(always)]
+fn unique(mut last: Option<u64>, mut emit: impl FnMut(u64)) -> impl FnMut(u64) {
+    move |k| {
+        if last != Some(k) {
+            emit(k);
+            last = Some(k);
+        }
+    }
 }
 
 /// Two sorted lists merged in order, each key to `emit`: a compare and two selects per
@@ -338,6 +344,14 @@ fn radix<K: Key>(keys: &mut [K], scratch: &mut [K]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A pool of two workers, for the paths that run side by side.
+    fn pool_of_two() -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap()
+    }
 
     /// `keys` sorted by [`sort_keys`], whole and in halves, as by the standard sort.
     fn check<K: Key + std::fmt::Debug>(keys: Vec<K>, scratch: &mut Vec<K>, what: &str) {
@@ -401,10 +415,7 @@ mod tests {
     #[test]
     fn lists_sorted_apart_then_merged_as_one_sort() {
         let mut rng = crate::geom::test_rng::Rng(17);
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
+        let pool = pool_of_two();
         assert_eq!(short_widths(0, 92_449), Some((17, 17)));
         assert_eq!(short_widths(999, 483), Some((9, 19)));
         assert_eq!(short_widths((1 << 15) - 1, (1 << 17) - 1), Some((17, 32)));
@@ -472,10 +483,7 @@ mod tests {
     /// below the other, one empty, the lists interleaved, against one sort.
     #[test]
     fn merge_split_at_the_ends() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
+        let pool = pool_of_two();
         let widths = short_widths(0, 1 << 16).unwrap();
         let keys = |r: std::ops::Range<u64>, step: u64| -> Vec<u64> {
             r.step_by(step as usize)
@@ -506,10 +514,7 @@ mod tests {
     #[test]
     fn sorts_pairs_as_tuples() {
         let mut rng = crate::geom::test_rng::Rng(9);
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
+        let pool = pool_of_two();
         let mut keys = PairKeys::default();
         for (n, ids, polys) in [
             (50_000, 1, 92_450),
