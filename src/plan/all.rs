@@ -362,8 +362,8 @@ impl Planner {
     /// and times into `st`. With `widths` (the scene's mesh ids and polygon numbers fit
     /// [`super::sort::sort_pairs`]'s 64-bit keys), each worker then sorts its own pairs as
     /// keys, on its own thread and side by side with the others (the pool still awake, each
-    /// worker reading the pairs it wrote), and the sorted lists are
-    /// merged into `out` in one pass, repeats dropped: the answer is then sorted (the
+    /// worker reading the pairs it wrote), and the sorted lists are merged into `out`
+    /// (two lists in two halves side by side), repeats dropped: the answer is then sorted (the
     /// result: true); else `out` gets the pairs as they are. Returns also the time of the
     /// tasks and of the sort, nanoseconds.
     fn run_tasks(
@@ -388,6 +388,11 @@ impl Planner {
             let w = &mut *w;
             super::sort::sort_own(&w.pairs, widths, &mut w.keys, &mut w.key_scratch);
         };
+        let mut merge = |widths: (u32, u32), par: bool| {
+            let each: Vec<_> = (0..count).map(|i| workers.lock(i)).collect();
+            let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
+            super::sort::merge_keys(&lists, widths, out, par);
+        };
         let mut tasks_done = start;
         match &workers.pool {
             Some(pool) => pool.install(|| {
@@ -401,10 +406,8 @@ impl Planner {
                             sort_own(ctx.index(), widths)
                         }
                     });
-                    // The sorted lists merged on the pool (two in two halves side by side).
-                    let each: Vec<_> = (0..count).map(|i| workers.lock(i)).collect();
-                    let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
-                    super::sort::merge_keys(&lists, widths, out, true);
+                    // The sorted lists merged on the pool.
+                    merge(widths, true);
                 }
             }),
             None => {
@@ -412,9 +415,7 @@ impl Planner {
                 tasks_done = Instant::now();
                 if let Some(widths) = widths {
                     (0..count).for_each(|i| sort_own(i, widths));
-                    let each: Vec<_> = (0..count).map(|i| workers.lock(i)).collect();
-                    let lists: Vec<&[u64]> = each.iter().map(|w| &w.keys[..]).collect();
-                    super::sort::merge_keys(&lists, widths, out, false);
+                    merge(widths, false);
                 }
             }
         }
