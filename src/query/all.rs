@@ -97,7 +97,26 @@ const PAR_MIN: usize = 4096;
 /// work: left to rayon's own split, one worker of two was seen working alone for half of a
 /// loop), big enough that a job's hand-over costs nothing next to its work.
 const PAR_POLYGONS: usize = 2048;
-const PAR_LEAVES: usize = 8;
+/// (Two: the leaves' pieces, and so their layouts' and certificates' costs, differ widely;
+/// eight left one of two workers alone with the last jobs of the certificates.)
+const PAR_LEAVES: usize = 2;
+
+/// `out` made `items` mapped by `f`: shared between the caller's workers in jobs of
+/// [`PAR_POLYGONS`] with `par`, else on this thread.
+fn map_into<T: Sync, U: Send>(
+    out: &mut Vec<U>,
+    items: &[T],
+    par: bool,
+    f: impl Fn(&T) -> U + Sync + Send,
+) {
+    use rayon::prelude::*;
+    out.clear();
+    if par {
+        out.par_extend(items.par_iter().with_max_len(PAR_POLYGONS).map(f));
+    } else {
+        out.extend(items.iter().map(f));
+    }
+}
 
 /// The projections in which all triangles `ids` turn the same way ([`turn_mask`] bits
 /// common to all; 0 as soon as there is none).
@@ -454,37 +473,15 @@ impl SelfPrep {
         };
         // ... and per position of `order`, the triangle's corners and turn mask.
         let mut tris_turns = || {
-            self.tris.clear();
-            self.turns.clear();
-            if par {
-                if triangles && float {
-                    self.tris.par_extend(
-                        self.corner_slots
-                            .par_iter()
-                            .with_max_len(PAR_POLYGONS)
-                            .map(float_tri),
-                    );
-                } else if triangles {
-                    self.tris
-                        .par_extend(self.order.par_iter().with_max_len(PAR_POLYGONS).map(tri));
-                }
-                if certify {
-                    self.turns.par_extend(
-                        self.tris
-                            .par_iter()
-                            .with_max_len(PAR_POLYGONS)
-                            .map(turn_mask),
-                    );
-                }
+            match (triangles, float) {
+                (true, true) => map_into(&mut self.tris, &self.corner_slots, par, float_tri),
+                (true, false) => map_into(&mut self.tris, &self.order, par, tri),
+                (false, _) => self.tris.clear(),
+            }
+            if certify {
+                map_into(&mut self.turns, &self.tris, par, turn_mask);
             } else {
-                if triangles && float {
-                    self.tris.extend(self.corner_slots.iter().map(float_tri));
-                } else if triangles {
-                    self.tris.extend(self.order.iter().map(tri));
-                }
-                if certify {
-                    self.turns.extend(self.tris.iter().map(turn_mask));
-                }
+                self.turns.clear();
             }
         };
         // Side by side with workers: the sweep alone would leave the other cores idle
@@ -541,10 +538,9 @@ impl SelfPrep {
                 leaf_certify(&layouts[l], leaf_range(l).start, tris, turns, check, out)
             };
             if par {
-                // A job or two leaves each: their pieces' costs differ widely.
                 parts
                     .into_par_iter()
-                    .with_max_len(2)
+                    .with_max_len(PAR_LEAVES)
                     .for_each_init(PatchCheck::default, cert);
             } else {
                 let mut check = PatchCheck::default();
@@ -562,37 +558,16 @@ impl SelfPrep {
         // The polygons' boxes: a float mesh's triangle's from its corner slots (as
         // `Mesh::poly_box`, in order); another triangle's from its corners, already made
         // (bounds rounded outward: a box holding the very triangle tested).
-        self.boxes.clear();
-        let order = &self.order;
         let slot_box = |c: &[u32; 3]| {
             let mut b = Aabb::EMPTY;
             c.iter().for_each(|&s| b.grow(&slots[s as usize]));
             b
         };
-        match (triangles, par) {
-            (true, true) if float => self.boxes.par_extend(
-                self.corner_slots
-                    .par_iter()
-                    .with_max_len(PAR_POLYGONS)
-                    .map(slot_box),
-            ),
-            (true, false) if float => self.boxes.extend(self.corner_slots.iter().map(slot_box)),
-            (true, true) => self.boxes.par_extend(
-                self.tris
-                    .par_iter()
-                    .with_max_len(PAR_POLYGONS)
-                    .map(corner_box),
-            ),
-            (true, false) => self.boxes.extend(self.tris.iter().map(corner_box)),
-            (false, true) => self.boxes.par_extend(
-                order
-                    .par_iter()
-                    .with_max_len(PAR_POLYGONS)
-                    .map(|&p| m.poly_box(p as usize)),
-            ),
-            (false, false) => self
-                .boxes
-                .extend(order.iter().map(|&p| m.poly_box(p as usize))),
+        let poly_box = |&p: &u32| m.poly_box(p as usize);
+        match (triangles, float) {
+            (true, true) => map_into(&mut self.boxes, &self.corner_slots, par, slot_box),
+            (true, false) => map_into(&mut self.boxes, &self.tris, par, corner_box),
+            (false, _) => map_into(&mut self.boxes, &self.order, par, poly_box),
         }
         self.lanes.set_grown(&self.boxes, h, par);
         let sub_box = |w: &[u32]| {
