@@ -67,7 +67,7 @@ impl Diag {
     /// sub-leaf's polygons), padded.
     pub fn set_union(&mut self, of: &Diag, starts: &[u32], par: bool) {
         // (A run is up to sixteen polygons: chunks of as many polygons as theirs, so that
-        // two workers share the ~6,000 sub-leaves of a 92k-triangle cloth.)
+        // two workers share the ~7,000 sub-leaves of a 92k-triangle cloth.)
         self.fill::<{ POLYGON_CHUNK / 16 }>(starts.len() - 1, par, |first, out| {
             #[cfg(target_arch = "x86_64")]
             if std::is_x86_feature_detected!("avx512f") {
