@@ -193,8 +193,9 @@ struct PieceLayout {
 /// The layout of one leaf of a self-colliding mesh: `items` (its polygons, positions
 /// `start..` of the leaf order) are grouped by connected piece (shared edges, from the twins
 /// `tw`; one piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by
-/// splits of the box centres along the widest axis ([`split_point`]: as few sub-leaves as
-/// hold the piece, of nearly equal sizes); `local` gets each polygon's piece;
+/// splits of the box centres ([`split_point`]: as few sub-leaves as hold the piece, of
+/// nearly equal sizes; along the axis leaving the parts the least box surface); `local`
+/// gets each polygon's piece;
 /// then the boundary loop of every piece.
 #[allow(clippy::too_many_arguments)]
 fn leaf_layout(
@@ -266,26 +267,35 @@ fn leaf_layout(
                 out.sub_piece.push(c);
                 continue;
             }
+            // Split at `mid` along the axis whose two parts' boxes have the least summed
+            // surface (as a bounding volume hierarchy's surface area heuristic): the
+            // tighter a sub-leaf's box, the fewer other sub-leaves it meets (crumpled
+            // cloth: box stage 7.9-8.3 -> 7.4-7.7 ms, one thread, against the widest axis
+            // of the centres).
             let part = &mut items[a..b];
-            let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-            for &p in part.iter() {
-                let q = &pb[p as usize];
-                for k in 0..3 {
-                    lo[k] = lo[k].min(centre(q, k));
-                    hi[k] = hi[k].max(centre(q, k));
+            let mid = split_point(part.len());
+            let by = |axis: usize| {
+                move |x: &u32, y: &u32| {
+                    centre(&pb[*x as usize], axis).total_cmp(&centre(&pb[*y as usize], axis))
+                }
+            };
+            let area = |ps: &[u32]| {
+                let mut b = Aabb::EMPTY;
+                ps.iter().for_each(|&p| b.merge(&pb[p as usize]));
+                let d = [0, 1, 2].map(|k| f64::from(b.max[k] - b.min[k]));
+                d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+            };
+            let mut best = (f64::INFINITY, 0);
+            for axis in 0..3 {
+                part.select_nth_unstable_by(mid, by(axis));
+                let cost = area(&part[..mid]) + area(&part[mid..]);
+                if cost < best.0 {
+                    best = (cost, axis);
                 }
             }
-            let axis = (0..3).fold(0, |best, k| {
-                if hi[k] - lo[k] > hi[best] - lo[best] {
-                    k
-                } else {
-                    best
-                }
-            });
-            let mid = split_point(part.len());
-            part.select_nth_unstable_by(mid, |&x, &y| {
-                centre(&pb[x as usize], axis).total_cmp(&centre(&pb[y as usize], axis))
-            });
+            if best.1 != 2 {
+                part.select_nth_unstable_by(mid, by(best.1));
+            }
             stack.push((a + mid, b));
             stack.push((a, a + mid));
         }
