@@ -87,19 +87,58 @@ pub fn mesh_pairs(
 /// Polygons per sub-leaf of a self-colliding mesh (see [`SelfPrep`]).
 const SUB_LEAF: usize = 16;
 
-/// Where a run of `len > SUB_LEAF` polygons is split (the first part's length) on the way
-/// to sub-leaves: the fewest sub-leaves that hold it, `m = ceil(len / SUB_LEAF)`, half
-/// (rounded up) to the first part and the polygons in proportion, so that every sub-leaf
-/// ends with `len / m` polygons or one more. Median halves would leave a piece of 354
-/// triangles in 32 sub-leaves of 11 (354 / 2^5) where 23 of 15 or 16 hold it; the box
-/// stage costs about the same per sub-leaf pair whether its sixteen lanes are full or not,
-/// so fuller sub-leaves mean fewer pairs: 92k-triangle crumpled cloth 8,390 -> 6,800
-/// sub-leaves, box stage 8.2 -> 7.3-7.8 ms on one thread (`bench-results/scene.md`).
-fn split_point(len: usize) -> usize {
-    debug_assert!(len > SUB_LEAF);
-    let m = len.div_ceil(SUB_LEAF);
-    len * m.div_ceil(2) / m
+/// Half the surface of box `b` (in `f64`).
+fn half_area(b: &Aabb) -> f64 {
+    let d = [0, 1, 2].map(|k| f64::from(b.max[k] - b.min[k]));
+    d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
 }
+
+/// Where a run `part` of more than [`SUB_LEAF`] polygons (boxes `pb`) is cut on the way to
+/// sub-leaves: `part` left sorted by box centre along the chosen axis, the cut's position
+/// returned. Of the cuts that keep the fewest sub-leaves in all (`ceil(len / SUB_LEAF)`),
+/// along each axis, the one with the least summed box surface times sub-leaves of its two
+/// sides (a bounding volume hierarchy's surface area heuristic, swept: each side's box
+/// grown polygon by polygon). The box stage's cost is per sub-leaf pair, about the same
+/// whether a sub-leaf's sixteen lanes are full or not, and a sub-leaf meets the fewer
+/// others the tighter its box: median halves along the widest axis left the 92k-triangle
+/// crumpled cloth's leaves of ~354 in 8,390 sub-leaves of mostly 9-12 (354 / 2^5) and
+/// ~86,000 sub-leaf pairs; the fewest sub-leaves, cut where this sweep says, make 6,708
+/// and ~67,200 pairs (`bench-results/scene.md`, seventh round).
+fn sweep_cut(part: &mut [u32], pb: &[Aabb], scratch: &mut Vec<f64>) -> usize {
+    debug_assert!(part.len() > SUB_LEAF);
+    let len = part.len();
+    let m = len.div_ceil(SUB_LEAF);
+    let subs = |c: usize| c.div_ceil(SUB_LEAF);
+    let centre = |p: u32, k: usize| pb[p as usize].min[k] * 0.5 + pb[p as usize].max[k] * 0.5;
+    let mut best = (f64::INFINITY, 0, 0);
+    for axis in 0..3 {
+        part.sort_unstable_by(|&x, &y| centre(x, axis).total_cmp(&centre(y, axis)));
+        scratch.clear();
+        let mut b = Aabb::EMPTY;
+        scratch.push(0.0);
+        for &p in part.iter() {
+            b.merge(&pb[p as usize]);
+            scratch.push(half_area(&b));
+        }
+        let mut b = Aabb::EMPTY;
+        for c in (1..len).rev() {
+            b.merge(&pb[part[c] as usize]);
+            if subs(c) + subs(len - c) != m {
+                continue;
+            }
+            let cost = scratch[c] * subs(c) as f64 + half_area(&b) * subs(len - c) as f64;
+            if cost < best.0 {
+                best = (cost, axis, c);
+            }
+        }
+    }
+    if best.1 != 2 {
+        let axis = best.1;
+        part.sort_unstable_by(|&x, &y| centre(x, axis).total_cmp(&centre(y, axis)));
+    }
+    best.2
+}
+
 // A sub-leaf's polygon boxes are tested sixteen at a time (`Lanes::each_pair_16`).
 const _: () = assert!(SUB_LEAF <= SUB_MAX);
 
@@ -193,9 +232,8 @@ struct PieceLayout {
 /// The layout of one leaf of a self-colliding mesh: `items` (its polygons, positions
 /// `start..` of the leaf order) are grouped by connected piece (shared edges, from the twins
 /// `tw`; one piece without them), each piece cut into sub-leaves of at most [`SUB_LEAF`] by
-/// splits of the box centres ([`split_point`]: as few sub-leaves as hold the piece, of
-/// nearly equal sizes; along the axis leaving the parts the least box surface); `local`
-/// gets each polygon's piece;
+/// cuts of the box centres ([`sweep_cut`]: as few sub-leaves as hold the piece, cut where
+/// their boxes are tightest); `local` gets each polygon's piece;
 /// then the boundary loop of every piece.
 #[allow(clippy::too_many_arguments)]
 fn leaf_layout(
@@ -249,8 +287,8 @@ fn leaf_layout(
         sub_piece: Vec::new(),
         pieces: Vec::with_capacity(pieces),
     };
-    let centre = |b: &Aabb, k: usize| b.min[k] * 0.5 + b.max[k] * 0.5;
     let mut stack = Vec::new();
+    let scratch_cut = &mut Vec::new();
     let mut run = 0;
     while run < len {
         let c = local[items[run] as usize - start];
@@ -267,35 +305,8 @@ fn leaf_layout(
                 out.sub_piece.push(c);
                 continue;
             }
-            // Split at `mid` along the axis whose two parts' boxes have the least summed
-            // surface (as a bounding volume hierarchy's surface area heuristic): the
-            // tighter a sub-leaf's box, the fewer other sub-leaves it meets (crumpled
-            // cloth: box stage 7.9-8.3 -> 7.4-7.7 ms, one thread, against the widest axis
-            // of the centres).
             let part = &mut items[a..b];
-            let mid = split_point(part.len());
-            let by = |axis: usize| {
-                move |x: &u32, y: &u32| {
-                    centre(&pb[*x as usize], axis).total_cmp(&centre(&pb[*y as usize], axis))
-                }
-            };
-            let area = |ps: &[u32]| {
-                let mut b = Aabb::EMPTY;
-                ps.iter().for_each(|&p| b.merge(&pb[p as usize]));
-                let d = [0, 1, 2].map(|k| f64::from(b.max[k] - b.min[k]));
-                d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
-            };
-            let mut best = (f64::INFINITY, 0);
-            for axis in 0..3 {
-                part.select_nth_unstable_by(mid, by(axis));
-                let cost = area(&part[..mid]) + area(&part[mid..]);
-                if cost < best.0 {
-                    best = (cost, axis);
-                }
-            }
-            if best.1 != 2 {
-                part.select_nth_unstable_by(mid, by(best.1));
-            }
+            let mid = sweep_cut(part, pb, scratch_cut);
             stack.push((a + mid, b));
             stack.push((a, a + mid));
         }
@@ -358,8 +369,8 @@ fn leaf_certify(
 }
 
 /// One self-colliding mesh made ready for a query, once, before the tasks: its leaf pairs,
-/// and each leaf cut into sub-leaves of at most [`SUB_LEAF`] polygons (splits of the
-/// polygons' box centres, as the leaves themselves; see [`split_point`]), with their boxes.
+/// and each leaf cut into sub-leaves of at most [`SUB_LEAF`] polygons (cuts of the
+/// polygons' box centres, see [`sweep_cut`]), with their boxes.
 /// A leaf pair's
 /// polygon box pairs then come from the sub-leaf pairs whose boxes meet, each tested
 /// eight boxes at a time ([`Lanes`]): a leaf of 450 polygons is a patch of a surface, and
@@ -1314,28 +1325,62 @@ mod tests {
     use super::*;
     use std::sync::atomic::Ordering::Relaxed;
 
-    /// Splitting at `split_point` down to runs of at most `SUB_LEAF` (as `leaf_layout`
-    /// does) leaves the fewest sub-leaves that can hold the run, of sizes differing by one
-    /// at most, each part non-empty.
+    /// Cutting at `sweep_cut` down to runs of at most `SUB_LEAF` (as `leaf_layout` does)
+    /// leaves the fewest sub-leaves that can hold the run, each cut inside it, the run
+    /// rearranged, not changed; and where two clusters of polygons lie apart, the cut
+    /// falls between them.
     #[test]
-    fn splits_make_the_fewest_and_evenest_sub_leaves() {
-        fn sizes(len: usize, out: &mut Vec<usize>) {
-            if len <= SUB_LEAF {
-                out.push(len);
+    fn cuts_make_the_fewest_sub_leaves_where_boxes_are_tightest() {
+        fn cut_all(part: &mut [u32], pb: &[Aabb], out: &mut Vec<usize>) {
+            if part.len() <= SUB_LEAF {
+                out.push(part.len());
                 return;
             }
-            let mid = split_point(len);
-            assert!(0 < mid && mid < len, "{len} split at {mid}");
-            sizes(mid, out);
-            sizes(len - mid, out);
+            let c = sweep_cut(part, pb, &mut Vec::new());
+            assert!(0 < c && c < part.len(), "{} cut at {c}", part.len());
+            let (l, r) = part.split_at_mut(c);
+            cut_all(l, pb, out);
+            cut_all(r, pb, out);
         }
-        for len in 1..3000 {
-            let mut got = Vec::new();
-            sizes(len, &mut got);
-            let (lo, hi) = (got.iter().min().unwrap(), got.iter().max().unwrap());
-            assert_eq!(got.len(), len.div_ceil(SUB_LEAF), "{len}: {got:?}");
-            assert!(hi - lo <= 1 && *hi <= SUB_LEAF, "{len}: {got:?}");
+        let mut rng = crate::geom::test_rng::Rng(5);
+        let pb: Vec<Aabb> = (0..3000)
+            .map(|_| {
+                let c = [0, 1, 2].map(|_| rng.f() as f32);
+                let r = 0.01 * rng.unit() as f32;
+                Aabb {
+                    min: c.map(|x| x - r),
+                    max: c.map(|x| x + r),
+                }
+            })
+            .collect();
+        for len in (1..3000usize).step_by(7) {
+            let mut part: Vec<u32> = (0..len as u32).collect();
+            let mut sizes = Vec::new();
+            cut_all(&mut part, &pb, &mut sizes);
+            assert_eq!(sizes.len(), len.div_ceil(SUB_LEAF), "{len}: {sizes:?}");
+            assert!(sizes.iter().all(|&x| x <= SUB_LEAF), "{len}: {sizes:?}");
+            part.sort_unstable();
+            assert!(
+                part.iter().copied().eq(0..len as u32),
+                "{len}: not a permutation"
+            );
         }
+        // Two clusters along y, of 16 and 24, interleaved in the input: 3 sub-leaves, so
+        // the cuts at 1-16 and 24-39 keep the count; the tightest is between the clusters.
+        let first = |i: u32| i % 5 < 2;
+        let two: Vec<Aabb> = (0..40)
+            .map(|i| {
+                let y = if first(i) { 0.0 } else { 10.0 } + 0.01 * i as f32;
+                Aabb {
+                    min: [0.0, y, 0.0],
+                    max: [1.0, y + 0.5, 1.0],
+                }
+            })
+            .collect();
+        let mut part: Vec<u32> = (0..40).collect();
+        let c = sweep_cut(&mut part, &two, &mut Vec::new());
+        assert_eq!(c, 16);
+        assert!(part[..16].iter().all(|&p| first(p)), "{part:?}");
     }
 
     /// The diagonal bounds are made at a mesh's first query; kept while the query that
