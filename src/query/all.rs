@@ -110,7 +110,9 @@ fn sweep_cut(part: &mut [u32], pb: &[Aabb], scratch: &mut Vec<f64>) -> usize {
     let m = len.div_ceil(SUB_LEAF);
     let subs = |c: usize| c.div_ceil(SUB_LEAF);
     let centre = |p: u32, k: usize| pb[p as usize].min[k] * 0.5 + pb[p as usize].max[k] * 0.5;
-    let mut best = (f64::INFINITY, 0, 0);
+    // (A cut after the first SUB_LEAF always keeps the count: the fall-back, should no
+    // cost compare, as a NaN would not.)
+    let mut best = (f64::INFINITY, 2, SUB_LEAF);
     for axis in 0..3 {
         part.sort_unstable_by(|&x, &y| centre(x, axis).total_cmp(&centre(y, axis)));
         scratch.clear();
@@ -370,9 +372,8 @@ fn leaf_certify(
 
 /// One self-colliding mesh made ready for a query, once, before the tasks: its leaf pairs,
 /// and each leaf cut into sub-leaves of at most [`SUB_LEAF`] polygons (cuts of the
-/// polygons' box centres, see [`sweep_cut`]), with their boxes.
-/// A leaf pair's
-/// polygon box pairs then come from the sub-leaf pairs whose boxes meet, each tested
+/// polygons' box centres, see [`sweep_cut`]), with their boxes. A leaf pair's polygon box
+/// pairs then come from the sub-leaf pairs whose boxes meet, each tested
 /// eight boxes at a time ([`Lanes`]): a leaf of 450 polygons is a patch of a surface, and
 /// testing it against itself or a neighbour polygon by polygon (or sweeping it along one
 /// axis) costs far more than the few neighbours each polygon really has. Kept from query
