@@ -186,7 +186,9 @@ impl Fans {
         ok: &mut Vec<bool>,
     ) {
         use rayon::prelude::*;
-        let one = |i: usize| match points.filter(|_| !self.link.is_empty()) {
+        // (The points are read only where `set_points` gave their indices.)
+        let points = points.filter(|_| !self.link.is_empty());
+        let one = |i: usize| match points {
             Some(pts) => self.fan_proven_by(
                 i,
                 turns,

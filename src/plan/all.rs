@@ -362,10 +362,10 @@ impl Planner {
     /// and times into `st`. With `widths` (the scene's mesh ids and polygon numbers fit
     /// [`super::sort::sort_pairs`]'s 64-bit keys), each worker then sorts its own pairs as
     /// keys, on its own thread and side by side with the others (the pool still awake, each
-    /// worker reading the pairs it wrote), and the sorted lists are merged into `out`
-    /// (two lists in two halves side by side), repeats dropped: the answer is then sorted (the
-    /// result: true); else `out` gets the pairs as they are. Returns also the time of the
-    /// tasks and of the sort, nanoseconds.
+    /// worker reading the pairs it wrote), and the sorted lists are merged into `out` on
+    /// the pool (two lists in two halves side by side), repeats dropped: the answer is then
+    /// sorted (the result: true); else `out` gets the pairs as they are. Returns also the
+    /// time of the tasks and of the sort, nanoseconds.
     fn run_tasks(
         &self,
         work: &Work<'_, '_>,

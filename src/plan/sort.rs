@@ -5,9 +5,9 @@
 //! self pairs none of the mesh ids'): five passes over the 78,000 pairs of a crumpled
 //! cloth, where a comparison sort makes seventeen. A whole-scene query's workers each sort
 //! their own pairs so ([`sort_own`], key widths from the scene's bounds: [`short_widths`])
-//! and the sorted lists are merged in one pass ([`merge_keys`], two lists in two halves side
-//! by side on two workers: [`merge_split`]); [`sort_pairs`] sorts a
-//! list whole (an answer with the GL backend's pairs, or keys of 128 bits).
+//! and the sorted lists are merged in one pass ([`merge_keys`]; two lists in two halves
+//! side by side on two workers, [`merge_split`]); [`sort_pairs`] sorts a list whole (an
+//! answer with the GL backend's pairs, or keys of 128 bits).
 
 use crate::backend::Pair;
 use std::mem::MaybeUninit;
